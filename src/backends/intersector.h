@@ -1,0 +1,63 @@
+// The one interface both backends implement. Batch calls only, so the virtual
+// dispatch happens once per batch and never per ray. Semantics are Embree 3's:
+// closest hit in [tnear, tfar], double-sided triangles, primID in input order,
+// geomID = mesh index, rays with NaN or zero direction miss.
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "bvh/build_options.h"
+#include "bvh/tree_stats.h"
+#include "core/hit.h"
+#include "core/ray.h"
+#include "core/scene.h"
+
+namespace hprt {
+
+enum class UpdateStrategy { kRebuild, kRefit, kAdaptive };
+
+struct BackendOptions {
+  std::string backend = "bvh";  // bvh | embree
+  int threads = 0;              // 0 = all hardware threads
+  // bvh backend
+  BuildOptions build;
+  TriangleTestKind triangle_test = TriangleTestKind::kWatertight;
+  // embree backend
+  std::string embree_quality = "medium";  // low | medium | high | refit
+  bool embree_robust = false;
+  // deformable scenes
+  UpdateStrategy update = UpdateStrategy::kAdaptive;
+  float adaptive_factor = 1.3f;  // rebuild when SAH cost exceeds factor x cost at last rebuild
+};
+
+struct BuildInfo {
+  std::string name;       // e.g. "bvh/parallel/watertight" or "embree/medium"
+  double build_ms = 0.0;  // last build() or update()
+  size_t memory_bytes = 0;
+  bool has_tree_stats = false;
+  TreeStats stats;
+  bool rebuilt = true;  // update(): whether the last update rebuilt (vs refit)
+};
+
+class Intersector {
+ public:
+  virtual ~Intersector() = default;
+  virtual void build(const Scene& scene) = 0;
+  virtual void update(const Scene& scene) = 0;
+  virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
+  virtual void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const = 0;
+  virtual BuildInfo info() const = 0;
+};
+
+// Throws InputError naming the backend when it is unknown.
+std::unique_ptr<Intersector> make_intersector(std::string_view backend,
+                                              const BackendOptions& options);
+std::vector<std::string> backend_names();
+
+}  // namespace hprt

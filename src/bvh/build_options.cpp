@@ -1,0 +1,33 @@
+#include "bvh/build_options.h"
+
+namespace hprt {
+
+std::string_view to_string(BuilderKind k) {
+  switch (k) {
+    case BuilderKind::kSweep: return "sweep";
+    case BuilderKind::kPresorted: return "presorted";
+    case BuilderKind::kBinned: return "binned";
+    case BuilderKind::kParallel: return "parallel";
+  }
+  return "?";
+}
+
+std::optional<BuilderKind> parse_builder(std::string_view s) {
+  if (s == "sweep") return BuilderKind::kSweep;
+  if (s == "presorted") return BuilderKind::kPresorted;
+  if (s == "binned") return BuilderKind::kBinned;
+  if (s == "parallel") return BuilderKind::kParallel;
+  return std::nullopt;
+}
+
+std::string_view to_string(TriangleTestKind k) {
+  return k == TriangleTestKind::kWatertight ? "watertight" : "mt";
+}
+
+std::optional<TriangleTestKind> parse_triangle_test(std::string_view s) {
+  if (s == "watertight") return TriangleTestKind::kWatertight;
+  if (s == "mt" || s == "moller") return TriangleTestKind::kMoller;
+  return std::nullopt;
+}
+
+}  // namespace hprt

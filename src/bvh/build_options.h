@@ -1,0 +1,36 @@
+// What a BVH build is asked for: which builder, bins, leaf size, SAH constants.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+namespace hprt {
+
+enum class BuilderKind { kSweep, kPresorted, kBinned, kParallel };
+enum class TriangleTestKind { kWatertight, kMoller };
+
+// SAH constants of the report's equation (1): cost = C_trav + sum over children
+// of SA(child)/SA(parent) * C_isect * triangles(child). The defaults are those
+// of Embree's builders (travCost 1, intCost 1) so trees are comparable.
+struct SahParams {
+  float traversal_cost = 1.0f;
+  float intersection_cost = 1.0f;
+};
+
+struct BuildOptions {
+  BuilderKind builder = BuilderKind::kParallel;
+  int bins = 32;
+  int max_leaf_size = 4;
+  SahParams sah;
+  // Below this many primitives the parallel builder works sequentially; a
+  // primitive count, not a thread count, so the tree never depends on threads.
+  int parallel_cutoff = 4096;
+};
+
+std::string_view to_string(BuilderKind k);
+std::optional<BuilderKind> parse_builder(std::string_view s);
+std::string_view to_string(TriangleTestKind k);
+std::optional<TriangleTestKind> parse_triangle_test(std::string_view s);
+
+}  // namespace hprt

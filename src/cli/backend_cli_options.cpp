@@ -1,0 +1,57 @@
+// Backend options shared by every subcommand that traces rays.
+#include "cli/commands.h"
+
+namespace hprt::cli {
+
+void add_threads_option(CLI::App& cmd, int& threads) {
+  cmd.add_option("--threads", threads, "worker threads (0 = all hardware threads)")
+      ->check(CLI::Range(0, 4096));
+}
+
+void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend) {
+  if (with_backend)
+    cmd.add_option("--backend", o.backend, "intersector backend")
+        ->check(CLI::IsMember({"bvh", "embree"}))
+        ->capture_default_str();
+  add_threads_option(cmd, o.options.threads);
+  cmd.add_option("--builder", o.builder, "bvh: builder")
+      ->check(CLI::IsMember({"sweep", "presorted", "binned", "parallel"}))
+      ->capture_default_str();
+  cmd.add_option("--bins", o.options.build.bins, "bvh: bins per axis (binned, parallel)")
+      ->check(CLI::Range(2, 1024))
+      ->capture_default_str();
+  cmd.add_option("--leaf-size", o.options.build.max_leaf_size, "bvh: most triangles in a leaf")
+      ->check(CLI::Range(1, 64))
+      ->capture_default_str();
+  cmd.add_option("--isect", o.isect, "bvh: ray/triangle test")
+      ->check(CLI::IsMember({"watertight", "mt"}))
+      ->capture_default_str();
+  cmd.add_option("--quality", o.quality, "embree: build quality")
+      ->check(CLI::IsMember({"low", "medium", "high", "refit"}))
+      ->capture_default_str();
+  cmd.add_option("--robust", o.robust, "embree: RTC_SCENE_FLAG_ROBUST")
+      ->check(CLI::IsMember({"on", "off"}))
+      ->capture_default_str();
+  cmd.add_option("--update", o.update, "deformable scenes: per-frame BVH update")
+      ->check(CLI::IsMember({"rebuild", "refit", "adaptive"}))
+      ->capture_default_str();
+  cmd.add_option("--adaptive-factor", o.options.adaptive_factor,
+                 "adaptive: rebuild when SAH cost exceeds this factor x cost at last rebuild")
+      ->check(CLI::Range(1.0f, 100.0f))
+      ->capture_default_str();
+}
+
+BackendOptions finish_backend_options(const BackendCliOptions& o) {
+  BackendOptions r = o.options;
+  r.backend = o.backend;
+  r.build.builder = *parse_builder(o.builder);
+  r.triangle_test = *parse_triangle_test(o.isect);
+  r.embree_quality = o.quality;
+  r.embree_robust = o.robust == "on";
+  r.update = o.update == "rebuild"  ? UpdateStrategy::kRebuild
+             : o.update == "refit" ? UpdateStrategy::kRefit
+                                   : UpdateStrategy::kAdaptive;
+  return r;
+}
+
+}  // namespace hprt::cli

@@ -1,0 +1,41 @@
+// Each subcommand registers itself on the app; its callback does the work and
+// stores its exit code (0 or 1) in `exit_code`. Bad input throws InputError.
+#pragma once
+
+#include <CLI/CLI.hpp>
+
+#include "backends/intersector.h"
+
+namespace hprt::cli {
+
+struct CommandState {
+  int exit_code = 0;
+};
+
+void add_generate_command(CLI::App& app, CommandState& state);
+void add_build_command(CLI::App& app, CommandState& state);
+void add_rays_command(CLI::App& app, CommandState& state);
+void add_trace_command(CLI::App& app, CommandState& state);
+void add_render_command(CLI::App& app, CommandState& state);
+void add_validate_command(CLI::App& app, CommandState& state);
+void add_bench_command(CLI::App& app, CommandState& state);
+
+// --backend, --threads and every backend option (--builder, --bins,
+// --leaf-size, --isect, --quality, --robust, --update, --adaptive-factor).
+// Values are checked at parse time; finish_backend_options() converts them.
+struct BackendCliOptions {
+  std::string backend = "bvh";
+  std::string builder = "parallel";
+  std::string isect = "watertight";
+  std::string quality = "medium";
+  std::string robust = "off";
+  std::string update = "adaptive";
+  BackendOptions options;
+};
+void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend = true);
+BackendOptions finish_backend_options(const BackendCliOptions& o);
+
+// --threads alone (for commands without a backend choice).
+void add_threads_option(CLI::App& cmd, int& threads);
+
+}  // namespace hprt::cli

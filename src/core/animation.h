@@ -1,0 +1,34 @@
+// Animation description from the scene file: frame count, rate, deformers
+// applied to meshes' rest poses, or per-frame mesh files.
+#pragma once
+
+#include <string>
+#include <vector>
+
+namespace hprt {
+
+struct DeformerSpec {
+  int mesh = 0;
+  std::string kind;  // twist | bend | wave | pulse | explode
+  float amplitude = 0.1f;
+  float wavelength = 1.0f;
+  float speed = 1.0f;
+  float angle_deg = 90.0f;  // twist and bend: angle reached at t = 1 s
+  int axis = 1;             // twist and bend: 0 = x, 1 = y, 2 = z
+};
+
+struct FrameSequenceSpec {
+  int mesh = 0;
+  std::string pattern;  // printf-style path, e.g. "frames/cloth_%04d.ply"
+  int first = 0;
+};
+
+struct Animation {
+  int frames = 1;
+  float fps = 24.0f;
+  std::vector<DeformerSpec> deformers;
+  std::vector<FrameSequenceSpec> sequences;
+  bool animated() const { return !deformers.empty() || !sequences.empty(); }
+};
+
+}  // namespace hprt
