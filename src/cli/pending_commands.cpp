@@ -11,6 +11,8 @@ void add_rays_command(CLI::App&, CommandState&) {}
 void add_trace_command(CLI::App&, CommandState&) {}
 void add_render_command(CLI::App&, CommandState&) {}
 void add_validate_command(CLI::App&, CommandState&) {}
+void add_validate_rays_command(CLI::App&, CommandState&) {}
+void add_validate_image_command(CLI::App&, CommandState&) {}
 void add_bench_command(CLI::App&, CommandState&) {}
 
 }  // namespace hprt::cli

@@ -1,0 +1,30 @@
+// The binary tree every builder returns, in one canonical layout so trees can
+// be compared with ==: nodes in depth-first preorder, root at 0, an inner
+// node's left child right after it (index + 1) and its right child at `right`;
+// a leaf covers prim_order[first, first + count). prim_order holds indices
+// into PrimInfo, in leaf order.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "core/aabb.h"
+
+namespace hprt {
+
+struct BuildNode {
+  AABB bounds;
+  uint32_t right = 0;  // inner: index of the right child (left child is this + 1)
+  uint32_t first = 0;  // leaf: first index into prim_order
+  uint32_t count = 0;  // leaf: number of primitives; 0 marks an inner node
+  bool is_leaf() const { return count != 0; }
+  bool operator==(const BuildNode&) const = default;
+};
+
+struct BuildTree {
+  std::vector<BuildNode> nodes;
+  std::vector<uint32_t> prim_order;
+  bool operator==(const BuildTree&) const = default;
+};
+
+}  // namespace hprt

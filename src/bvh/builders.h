@@ -1,0 +1,22 @@
+// The four builders of the report, one free function each, all returning the
+// same canonical BuildTree. `build_tree` dispatches on options.builder.
+#pragma once
+
+#include "bvh/build_options.h"
+#include "bvh/build_tree.h"
+#include "bvh/prim_info.h"
+#include "bvh/tree_stats.h"
+
+namespace hprt {
+
+BuildTree build_sweep(const PrimInfo& prims, const BuildOptions& options);      // Algorithm 1
+BuildTree build_presorted(const PrimInfo& prims, const BuildOptions& options);  // Algorithm 2
+BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options);     // Algorithm 3
+BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options);   // Algorithm 5
+
+BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
+
+// Statistics and the 64-bit tree hash of DESIGN.md (tree_stats.cpp).
+TreeStats compute_tree_stats(const BuildTree& tree, const PrimInfo& prims);
+
+}  // namespace hprt
