@@ -1,7 +1,9 @@
 // The one interface both backends implement. Batch calls only, so the virtual
 // dispatch happens once per batch and never per ray. Semantics are Embree 3's:
 // closest hit in [tnear, tfar], double-sided triangles, primID in input order,
-// geomID = mesh index, rays with NaN or zero direction miss.
+// geomID = mesh index, rays with NaN or zero direction miss. Rays Embree
+// calls invalid miss too: an org/dir component that is non-finite or above
+// 1.844e18 (Embree's FLT_LARGE), tnear < 0, or not tnear <= tfar (NaN).
 #pragma once
 
 #include <cstddef>

@@ -12,6 +12,11 @@
 
 namespace hprt {
 
+// Deepest a build tree may be (root depth 1). Every builder falls back to an
+// object-median split early enough that no tree exceeds it, so traversal
+// stacks can have a fixed size.
+constexpr int kMaxBuildDepth = 64;
+
 struct BuildNode {
   AABB bounds;
   uint32_t right = 0;  // inner: index of the right child (left child is this + 1)

@@ -1,0 +1,86 @@
+// Build tree -> FlatBvh. Node pass: a depth-first walk that gives each inner
+// node's two children adjacent slots (pairs allocated in the order their
+// parents are visited); triangle pass: leaf-order copy of vertices, edges and
+// input (geomID, primID), in parallel over triangles.
+#include "bvh/flatten.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace hprt {
+namespace {
+
+BinaryNode to_flat(const BuildNode& b) {
+  BinaryNode n;
+  n.min = b.bounds.min;
+  n.max = b.bounds.max;
+  n.count = b.count;
+  n.index = b.is_leaf() ? b.first : 0;
+  return n;
+}
+
+}  // namespace
+
+FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene) {
+  FlatBvh out;
+  const size_t n = tree.nodes.size();
+  if (n == 0) return out;
+  if (tree.prim_order.size() != prims.size())
+    throw std::invalid_argument("flatten: prim_order does not match PrimInfo");
+
+  // Slot 0: root; slot 1: unused padding; pairs from slot 2 on, so each pair
+  // starts at an even index (a 64-byte line in the 64-byte aligned array).
+  out.nodes.resize(n == 1 ? 1 : n + 1);
+  if (n > 1) out.nodes[1] = BinaryNode{};
+  uint32_t next = 2;
+  std::vector<std::pair<uint32_t, uint32_t>> todo;  // (build index, flat slot)
+  todo.reserve(2 * kMaxBuildDepth + 2);
+  todo.emplace_back(0u, 0u);
+  size_t visited = 0;
+  while (!todo.empty()) {
+    const auto [b, f] = todo.back();
+    todo.pop_back();
+    ++visited;
+    const BuildNode& bn = tree.nodes[b];
+    BinaryNode& fn = out.nodes[f];
+    fn = to_flat(bn);
+    if (bn.is_leaf()) {
+      if (size_t(bn.first) + bn.count > tree.prim_order.size())
+        throw std::invalid_argument("flatten: leaf range past prim_order");
+      continue;
+    }
+    const uint32_t left = b + 1, right = bn.right;
+    if (left >= n || right >= n || right <= b || next + 1 >= out.nodes.size())
+      throw std::invalid_argument("flatten: malformed build tree");
+    fn.index = next;
+    next += 2;
+    // Push right first so the left subtree is laid out first (depth first).
+    todo.emplace_back(right, fn.index + 1);
+    todo.emplace_back(left, fn.index);
+  }
+  if (visited != n || (n > 1 && next != n + 1))
+    throw std::invalid_argument("flatten: build tree is not a single binary tree");
+
+  const size_t m = tree.prim_order.size();
+  LeafTriangles& tris = out.triangles;
+  tris.resize(m);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, m, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t j = r.begin(); j != r.end(); ++j) {
+          const PrimRef ref = prims.refs[tree.prim_order[j]];
+          const TriangleMesh& mesh = scene.meshes[ref.geom_id];
+          const Vec3u& t = mesh.triangles[ref.prim_id];
+          const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+          tris.verts[j] = TriangleVerts{a, b, c};
+          tris.edges[j] = TriangleEdges{a, b - a, c - a};
+          tris.refs[j] = ref;
+        }
+      });
+  return out;
+}
+
+}  // namespace hprt

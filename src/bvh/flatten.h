@@ -1,0 +1,18 @@
+// Build tree -> traversal layout (FlatBvh): sibling pairs stored adjacently in
+// depth-first order of their parents, triangles copied into leaf order with
+// their precomputed test data (pbrt: BVHBuildNode -> LinearBVHNode).
+#pragma once
+
+#include "bvh/build_tree.h"
+#include "bvh/flat_bvh.h"
+#include "bvh/prim_info.h"
+#include "core/scene.h"
+
+namespace hprt {
+
+// `tree` must index `prims`, and `prims` must come from `scene`. An empty tree
+// (no valid triangle) gives an empty FlatBvh. Throws std::invalid_argument on
+// a malformed tree (a child index out of range, a leaf range past prim_order).
+FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene);
+
+}  // namespace hprt

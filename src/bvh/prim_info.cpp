@@ -1,0 +1,90 @@
+// make_prim_info: one box and one centroid (the box centre, as in Wald 2007
+// and Embree) per valid triangle, in (geomID, primID) order. Large meshes are
+// processed in parallel over fixed-size chunks (count, prefix sum, fill), so
+// the result never depends on the thread count.
+#include "bvh/prim_info.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+
+#include <algorithm>
+
+namespace hprt {
+
+namespace {
+
+constexpr size_t kChunk = 16384;
+
+AABB triangle_box(const TriangleMesh& m, size_t i) {
+  const Vec3u& t = m.triangles[i];
+  AABB b;
+  b.extend(m.positions[t[0]]);
+  b.extend(m.positions[t[1]]);
+  b.extend(m.positions[t[2]]);
+  return b;
+}
+
+}  // namespace
+
+PrimInfo make_prim_info(const Scene& scene) {
+  PrimInfo info;
+  // Pass 1: valid triangles per chunk of every mesh.
+  struct Chunk {
+    uint32_t geom;
+    size_t begin, end;
+    size_t valid = 0;
+    size_t offset = 0;
+  };
+  std::vector<Chunk> chunks;
+  for (size_t g = 0; g < scene.meshes.size(); ++g) {
+    const size_t n = scene.meshes[g].triangle_count();
+    for (size_t b = 0; b < n; b += kChunk)
+      chunks.push_back({static_cast<uint32_t>(g), b, std::min(n, b + kChunk)});
+  }
+  tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t c) {
+    Chunk& ch = chunks[c];
+    const TriangleMesh& m = scene.meshes[ch.geom];
+    size_t v = 0;
+    for (size_t i = ch.begin; i < ch.end; ++i) v += m.triangle_valid(i) ? 1 : 0;
+    ch.valid = v;
+  });
+  size_t total = 0, all = 0;
+  for (Chunk& ch : chunks) {
+    ch.offset = total;
+    total += ch.valid;
+    all += ch.end - ch.begin;
+  }
+  info.invalid = all - total;
+  info.bounds.resize(total);
+  info.centroids.resize(total);
+  info.refs.resize(total);
+  // Pass 2: fill, and reduce the bounds per chunk (min/max: exact in any order).
+  std::vector<AABB> chunk_bounds(chunks.size()), chunk_cbounds(chunks.size());
+  tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t c) {
+    const Chunk& ch = chunks[c];
+    const TriangleMesh& m = scene.meshes[ch.geom];
+    size_t w = ch.offset;
+    AABB sb, cb;
+    for (size_t i = ch.begin; i < ch.end; ++i) {
+      if (!m.triangle_valid(i)) continue;
+      const AABB b = triangle_box(m, i);
+      const Vec3f centre = b.center();
+      info.bounds[w] = b;
+      info.centroids[w] = centre;
+      info.refs[w] = {ch.geom, static_cast<uint32_t>(i)};
+      sb.extend(b);
+      cb.extend(centre);
+      ++w;
+    }
+    chunk_bounds[c] = sb;
+    chunk_cbounds[c] = cb;
+  });
+  for (size_t c = 0; c < chunks.size(); ++c) {
+    info.scene_bounds.extend(chunk_bounds[c]);
+    info.centroid_bounds.extend(chunk_cbounds[c]);
+  }
+  return info;
+}
+
+}  // namespace hprt

@@ -1,0 +1,96 @@
+// Height-field generators over [-1,1]² (xz plane, +y up): terrain from seeded
+// value noise (hashed lattice values, smoothstep interpolation, 5 octaves of
+// doubling frequency and halving amplitude) and a flat plane on the same grid.
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "core/mesh_generators.h"
+
+namespace hprt {
+namespace {
+
+uint64_t splitmix64(uint64_t x) {
+  x += 0x9E3779B97F4A7C15ull;
+  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
+  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
+  return x ^ (x >> 31);
+}
+
+// Lattice value in [-1, 1) for integer point (ix, iz) of one octave.
+double lattice(uint64_t seed, int octave, int64_t ix, int64_t iz) {
+  uint64_t h = splitmix64(seed ^ (uint64_t(octave) << 56));
+  h = splitmix64(h ^ uint64_t(ix));
+  h = splitmix64(h ^ uint64_t(iz));
+  return double(h >> 11) * 0x1.0p-52 - 1.0;
+}
+
+double value_noise(uint64_t seed, double x, double z) {
+  constexpr int kOctaves = 5;
+  constexpr double kHeight = 0.25;  // sum of the octave amplitudes
+  double height = 0.0, amplitude = kHeight / (2.0 - std::ldexp(1.0, 1 - kOctaves));
+  double freq = 2.0;  // lattice cells per unit length at octave 0
+  for (int o = 0; o < kOctaves; ++o) {
+    const double fx = x * freq, fz = z * freq;
+    const double x0 = std::floor(fx), z0 = std::floor(fz);
+    const double tx = fx - x0, tz = fz - z0;
+    const double sx = tx * tx * (3 - 2 * tx), sz = tz * tz * (3 - 2 * tz);
+    const int64_t ix = int64_t(x0), iz = int64_t(z0);
+    const double a = lattice(seed, o, ix, iz), b = lattice(seed, o, ix + 1, iz);
+    const double c = lattice(seed, o, ix, iz + 1), d = lattice(seed, o, ix + 1, iz + 1);
+    height += amplitude * ((a + (b - a) * sx) * (1 - sz) + (c + (d - c) * sx) * sz);
+    amplitude *= 0.5;
+    freq *= 2.0;
+  }
+  return height;
+}
+
+TriangleMesh height_field(size_t tris, bool noise, uint64_t seed) {
+  const size_t g = size_t(grid_segments(tris));
+  const size_t row = g + 1;
+  TriangleMesh mesh;
+  mesh.positions.resize(row * row);
+  mesh.triangles.resize(2 * g * g);
+  tbb::parallel_for(size_t{0}, row, [&](size_t k) {
+    const double z = -1.0 + 2.0 * double(k) / double(g);
+    for (size_t i = 0; i < row; ++i) {
+      const double x = -1.0 + 2.0 * double(i) / double(g);
+      const double y = noise ? value_noise(seed, x, z) : 0.0;
+      mesh.positions[k * row + i] = Vec3f(Vec3d(x, y, z));
+    }
+  });
+  for (size_t k = 0; k < g; ++k)
+    for (size_t i = 0; i < g; ++i) {
+      const uint32_t a = uint32_t(k * row + i), b = a + 1;
+      const uint32_t d = uint32_t(a + row), c = d + 1;
+      // Counter-clockwise seen from +y.
+      mesh.triangles[2 * (k * g + i)] = Vec3u{{a, c, b}};
+      mesh.triangles[2 * (k * g + i) + 1] = Vec3u{{a, d, c}};
+    }
+  return mesh;
+}
+
+}  // namespace
+
+int grid_segments(size_t tris) {
+  int g = std::max(1, int(std::sqrt(double(tris) / 2.0)));
+  while (2.0 * g * g < double(tris)) ++g;
+  while (g > 1 && 2.0 * (g - 1) * (g - 1) >= double(tris)) --g;
+  return g;
+}
+
+TriangleMesh generate_terrain(size_t tris, uint64_t seed) {
+  TriangleMesh mesh = height_field(tris, true, seed);
+  mesh.name =
+      "terrain(" + std::to_string(mesh.triangle_count()) + ", seed " + std::to_string(seed) + ")";
+  return mesh;
+}
+
+TriangleMesh generate_plane(size_t tris) {
+  TriangleMesh mesh = height_field(tris, false, 0);
+  mesh.name = "plane(" + std::to_string(mesh.triangle_count()) + ")";
+  return mesh;
+}
+
+}  // namespace hprt

@@ -1,0 +1,27 @@
+// .rays, .hits and occlusion files (DESIGN.md "Files"): raw little-endian
+// records, no header. .rays: 32 bytes per ray (== Ray); .hits: 20 bytes per
+// ray (== Hit); occlusion: one byte per ray, 1 = occluded.
+#pragma once
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/hit.h"
+#include "core/ray.h"
+
+namespace hprt {
+
+// Readers throw InputError("path: problem") for a missing or unreadable file,
+// a size that is not a whole number of records, or a file above 16 GiB.
+std::vector<Ray> read_rays(const std::string& path);
+std::vector<Hit> read_hits(const std::string& path);
+std::vector<uint8_t> read_occlusion(const std::string& path);
+
+// Writers are atomic (write_file_atomic): the file appears whole or not at all.
+void write_rays(const std::string& path, std::span<const Ray> rays);
+void write_hits(const std::string& path, std::span<const Hit> hits);
+void write_occlusion(const std::string& path, std::span<const uint8_t> occluded);
+
+}  // namespace hprt

@@ -1,0 +1,159 @@
+// The bvh backend through the Intersector interface, against the Embree
+// backend on the same rays: same primitive (or a tie at the same t) and t
+// within 1e-5 relative, for both triangle tests and several builders;
+// results identical for 1 and 2 threads; invalid rays and empty scenes miss.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+
+#include "backends/intersector.h"
+#include "bvh_trace_helpers.h"
+#include "core/parallel.h"
+
+namespace hprt {
+namespace {
+
+struct Answers {
+  std::vector<Hit> hits;
+  std::vector<uint8_t> occluded;
+  BuildInfo info;
+};
+
+Answers run(const Scene& scene, const std::vector<Ray>& rays, BackendOptions o,
+            const std::string& backend, int threads) {
+  o.threads = threads;
+  return run_with_threads(threads, [&] {
+    auto isect = make_intersector(backend, o);
+    isect->build(scene);
+    Answers a;
+    a.hits.resize(rays.size());
+    a.occluded.resize(rays.size());
+    isect->intersect(rays, a.hits);
+    isect->occluded(rays, a.occluded);
+    a.info = isect->info();
+    return a;
+  });
+}
+
+bool close_rel(float a, float b) {
+  return std::fabs(a - b) <= 1e-5f * std::max(std::fabs(a), std::fabs(b));
+}
+
+void compare_with_embree(const Scene& scene, const std::vector<Ray>& rays, TriangleTestKind kind,
+                         BuilderKind builder) {
+  BackendOptions o;
+  o.triangle_test = kind;
+  o.build.builder = builder;
+  const Answers bvh = run(scene, rays, o, "bvh", 2);
+  const Answers emb = run(scene, rays, o, "embree", 2);
+  size_t hits = 0, ties = 0, mismatches = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Hit& a = bvh.hits[i];
+    const Hit& b = emb.hits[i];
+    if (a.hit() != b.hit()) {
+      ++mismatches;
+      continue;
+    }
+    EXPECT_EQ(bvh.occluded[i], a.hit() ? 1 : 0) << i;
+    if (!a.hit()) continue;
+    ++hits;
+    EXPECT_EQ(a.geom_id, b.geom_id);
+    if (!close_rel(a.t, b.t)) {
+      ++mismatches;
+      continue;
+    }
+    if (a.prim_id != b.prim_id) {
+      ++ties;
+    } else {
+      EXPECT_NEAR(a.u, b.u, 1e-4f);
+      EXPECT_NEAR(a.v, b.v, 1e-4f);
+    }
+  }
+  EXPECT_EQ(mismatches, 0u);
+  EXPECT_GT(hits, rays.size() / 10);
+  EXPECT_LE(ties, hits / 100 + 5);
+}
+
+Scene scene_of(std::vector<TriangleMesh> meshes) {
+  Scene s;
+  for (auto& m : meshes) s.add_mesh(std::move(m));
+  return s;
+}
+
+TEST(BvhBackend, AgreesWithEmbreeOnSoup) {
+  const Scene scene = scene_of({test::random_soup(20000, 5, 0.03f)});
+  const auto rays = test::random_rays(scene.bounds(), 10000, 17);
+  compare_with_embree(scene, rays, TriangleTestKind::kWatertight, BuilderKind::kParallel);
+  compare_with_embree(scene, rays, TriangleTestKind::kMoller, BuilderKind::kBinned);
+}
+
+TEST(BvhBackend, AgreesWithEmbreeOnClosedSphere) {
+  const Scene scene = scene_of({test::icosphere(5), test::grid(30, 30)});
+  auto rays = test::random_rays(scene.bounds(), 10000, 23);
+  const auto more = test::coherent_rays(scene.bounds(), 60, 40);
+  rays.insert(rays.end(), more.begin(), more.end());
+  compare_with_embree(scene, rays, TriangleTestKind::kWatertight, BuilderKind::kParallel);
+  compare_with_embree(scene, rays, TriangleTestKind::kMoller, BuilderKind::kSweep);
+}
+
+TEST(BvhBackend, OneAndTwoThreadsIdentical) {
+  const Scene scene = scene_of({test::random_soup(30000, 8, 0.03f)});
+  const auto rays = test::random_rays(scene.bounds(), 10000, 29);
+  for (TriangleTestKind kind : {TriangleTestKind::kWatertight, TriangleTestKind::kMoller}) {
+    BackendOptions o;
+    o.triangle_test = kind;
+    const Answers a = run(scene, rays, o, "bvh", 1);
+    const Answers b = run(scene, rays, o, "bvh", 2);
+    EXPECT_EQ(a.info.stats.tree_hash, b.info.stats.tree_hash);
+    ASSERT_EQ(a.hits.size(), b.hits.size());
+    for (size_t i = 0; i < rays.size(); ++i) {
+      EXPECT_EQ(a.hits[i].t, b.hits[i].t);
+      EXPECT_EQ(a.hits[i].prim_id, b.hits[i].prim_id);
+      EXPECT_EQ(a.hits[i].u, b.hits[i].u);
+      EXPECT_EQ(a.occluded[i], b.occluded[i]);
+    }
+  }
+}
+
+TEST(BvhBackend, InfoReportsTheBuild) {
+  const Scene scene = scene_of({test::with_invalid_triangles(), test::random_soup(1000, 1)});
+  BackendOptions o;
+  o.build.builder = BuilderKind::kBinned;
+  o.triangle_test = TriangleTestKind::kMoller;
+  const Answers a = run(scene, {}, o, "bvh", 1);
+  EXPECT_EQ(a.info.name, "bvh/binned/mt");
+  EXPECT_TRUE(a.info.has_tree_stats);
+  EXPECT_EQ(a.info.stats.triangles, 1006u);
+  EXPECT_EQ(a.info.stats.invalid_triangles, 5u);
+  EXPECT_GT(a.info.memory_bytes, 1006u * 68u);
+  EXPECT_GE(a.info.build_ms, 0.0);
+}
+
+TEST(BvhBackend, EmptySceneAndInvalidRaysMiss) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  std::vector<Ray> rays(6);
+  for (Ray& r : rays) {
+    r.org = {0.5f, 0.5f, 2.0f};
+    r.dir = {0, 0, -1};
+  }
+  rays[0].dir = {nan, 0, -1};
+  rays[1].org = {nan, 0.5f, 2.0f};
+  rays[2].dir = {0, 0, 0};
+  rays[3].dir = {inf, 0, -1};
+  rays[4].tnear = 3.0f;
+  rays[4].tfar = 1.0f;
+  rays[5].tfar = nan;
+  for (const Scene& scene : {scene_of({}), scene_of({test::grid(4, 4)})}) {
+    const Answers a = run(scene, rays, BackendOptions{}, "bvh", 2);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      EXPECT_FALSE(a.hits[i].hit()) << i;
+      EXPECT_EQ(a.hits[i].t, inf);
+      EXPECT_EQ(a.occluded[i], 0) << i;
+    }
+  }
+}
+
+}  // namespace
+}  // namespace hprt

@@ -1,0 +1,84 @@
+// `hprt build` end to end: JSON fields and their consistency, the same tree
+// hash for 1 and 2 threads, --repeat, and exit code 2 on bad input.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <string>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Result {
+  int code;
+  std::string out;
+};
+
+Result run(const std::string& args) {
+  const std::string cmd = std::string(HPRT_BINARY) + " " + args + " 2>/dev/null";
+  FILE* p = popen(cmd.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf{};
+  size_t n;
+  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
+  const int status = pclose(p);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+class CmdBuild : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    dir_ = fs::temp_directory_path() / ("hprt_cmd_build_" + std::to_string(::getpid()));
+    fs::create_directories(dir_);
+    mesh_ = (dir_ / "soup.ply").string();
+    ASSERT_EQ(run("generate soup --tris 6000 --seed 3 -o " + mesh_).code, 0);
+  }
+  static void TearDownTestSuite() { fs::remove_all(dir_); }
+  static inline fs::path dir_;
+  static inline std::string mesh_;
+};
+
+TEST_F(CmdBuild, JsonReportsTheTree) {
+  const Result r = run("build " + mesh_ + " --builder binned --leaf-size 2 --threads 1 --json");
+  ASSERT_EQ(r.code, 0);
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["builder"], "binned");
+  EXPECT_EQ(j["threads"], 1);
+  EXPECT_EQ(j["leaf_size"], 2);
+  EXPECT_EQ(j["bins"], 32);
+  EXPECT_EQ(j["triangles"].get<size_t>() + j["invalid_triangles"].get<size_t>(), 6000u);
+  EXPECT_EQ(j["nodes"].get<size_t>(), 2 * j["leaves"].get<size_t>() - 1);
+  EXPECT_LE(j["max_leaf_size"].get<int>(), 2);
+  EXPECT_GT(j["depth"].get<int>(), 5);
+  EXPECT_GE(j["sah_cost"].get<double>(), 1.0);
+  EXPECT_GE(j["build_ms"].get<double>(), 0.0);
+  EXPECT_EQ(j["tree_hash"].get<std::string>().size(), 16u);
+  EXPECT_GT(j["bytes_per_triangle"].get<double>(), 32.0);
+  EXPECT_GT(j["peak_memory_bytes"].get<size_t>(), 0u);
+  EXPECT_NEAR(j["avg_leaf_size"].get<double>(),
+              double(j["triangles"].get<size_t>()) / j["leaves"].get<double>(), 1e-9);
+}
+
+TEST_F(CmdBuild, ParallelTreeIndependentOfThreads) {
+  const Result a = run("build " + mesh_ + " --threads 1 --json");
+  const Result b = run("build " + mesh_ + " --threads 2 --repeat 3 --json");
+  ASSERT_EQ(a.code, 0);
+  ASSERT_EQ(b.code, 0);
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  EXPECT_EQ(ja["builder"], "parallel");
+  EXPECT_EQ(ja["tree_hash"], jb["tree_hash"]);
+  EXPECT_EQ(jb["threads"], 2);
+  EXPECT_EQ(jb["build_ms_all"].size(), 3u);
+}
+
+TEST_F(CmdBuild, BadInputExitsTwo) {
+  EXPECT_EQ(run("build " + (dir_ / "missing.ply").string()).code, 2);
+  EXPECT_EQ(run("build " + mesh_ + " --builder nope").code, 2);
+  EXPECT_EQ(run("build " + mesh_ + " --repeat 0").code, 2);
+}
+
+}  // namespace

@@ -1,0 +1,106 @@
+// Flattening: node boxes contain their children, sibling pairs are adjacent
+// and 64-byte aligned, every valid input triangle appears exactly once in
+// leaf order with its input (geomID, primID) and its precomputed data.
+#include "bvh/flatten.h"
+
+#include <gtest/gtest.h>
+
+#include <cstdint>
+#include <vector>
+
+#include "bvh_trace_helpers.h"
+
+namespace hprt {
+namespace {
+
+AABB box_of(const BinaryNode& n) { return AABB{n.min, n.max}; }
+
+// Walks the flat tree; returns the number of nodes reached, checks boxes.
+size_t walk(const FlatBvh& f, uint32_t i, std::vector<int>& tri_seen, int depth, int& max_depth) {
+  const BinaryNode& n = f.nodes.at(i);
+  max_depth = std::max(max_depth, depth);
+  if (n.is_leaf()) {
+    for (uint32_t k = n.index; k < n.index + n.count; ++k) {
+      ++tri_seen.at(k);
+      AABB t;
+      t.extend(f.triangles.verts[k].v0);
+      t.extend(f.triangles.verts[k].v1);
+      t.extend(f.triangles.verts[k].v2);
+      EXPECT_TRUE(box_of(n).contains(t)) << "leaf " << i << " tri " << k;
+    }
+    return 1;
+  }
+  EXPECT_EQ(n.index % 2, 0u) << "pair not at an even slot";
+  EXPECT_TRUE(box_of(n).contains(box_of(f.nodes.at(n.index))));
+  EXPECT_TRUE(box_of(n).contains(box_of(f.nodes.at(n.index + 1))));
+  return 1 + walk(f, n.index, tri_seen, depth + 1, max_depth) +
+         walk(f, n.index + 1, tri_seen, depth + 1, max_depth);
+}
+
+void check(const test::BuiltBvh& b) {
+  const FlatBvh& f = b.bvh;
+  ASSERT_FALSE(f.empty());
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(f.nodes.data()) % 64, 0u);
+  EXPECT_EQ(f.nodes.size(), b.tree.nodes.size() == 1 ? 1 : b.tree.nodes.size() + 1);
+  std::vector<int> seen(f.triangles.size(), 0);
+  int depth = 0;
+  EXPECT_EQ(walk(f, 0, seen, 1, depth), b.tree.nodes.size());
+  EXPECT_LE(depth, kMaxBuildDepth);
+  for (int s : seen) ASSERT_EQ(s, 1);
+  // Each valid input triangle exactly once, with its own vertices and edges.
+  std::vector<std::vector<int>> per_input(b.scene.meshes.size());
+  for (size_t g = 0; g < b.scene.meshes.size(); ++g)
+    per_input[g].assign(b.scene.meshes[g].triangle_count(), 0);
+  for (size_t k = 0; k < f.triangles.size(); ++k) {
+    const PrimRef r = f.triangles.refs[k];
+    EXPECT_EQ(r, b.prims.refs[b.tree.prim_order[k]]);
+    const TriangleMesh& m = b.scene.meshes.at(r.geom_id);
+    ++per_input[r.geom_id].at(r.prim_id);
+    const Vec3u t = m.triangles[r.prim_id];
+    EXPECT_EQ(f.triangles.verts[k].v0, m.positions[t[0]]);
+    EXPECT_EQ(f.triangles.verts[k].v1, m.positions[t[1]]);
+    EXPECT_EQ(f.triangles.verts[k].v2, m.positions[t[2]]);
+    EXPECT_EQ(f.triangles.edges[k].v0, m.positions[t[0]]);
+    EXPECT_EQ(f.triangles.edges[k].e1, m.positions[t[1]] - m.positions[t[0]]);
+    EXPECT_EQ(f.triangles.edges[k].e2, m.positions[t[2]] - m.positions[t[0]]);
+  }
+  for (size_t g = 0; g < per_input.size(); ++g)
+    for (size_t i = 0; i < per_input[g].size(); ++i)
+      EXPECT_EQ(per_input[g][i], b.scene.meshes[g].triangle_valid(i) ? 1 : 0) << g << "/" << i;
+  EXPECT_EQ(f.memory_bytes(),
+            f.nodes.size() * 32 + f.triangles.size() * (6 * sizeof(Vec3f) + sizeof(PrimRef)));
+}
+
+TEST(Flatten, SoupTwoMeshesAllLeafSizes) {
+  for (int leaf : {1, 2, 4, 8}) {
+    BuildOptions o;
+    o.max_leaf_size = leaf;
+    check(test::build_flat({test::random_soup(2000, 1), test::grid(10, 10)}, o));
+  }
+}
+
+TEST(Flatten, InvalidTrianglesLeftOutAndSingleLeaf) {
+  check(test::build_flat({test::with_invalid_triangles()}, BuildOptions{}));
+  TriangleMesh one;
+  test::add_triangle(one, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  const test::BuiltBvh b = test::build_flat({one}, BuildOptions{});
+  ASSERT_EQ(b.bvh.nodes.size(), 1u);
+  EXPECT_TRUE(b.bvh.nodes[0].is_leaf());
+  check(b);
+}
+
+TEST(Flatten, EmptySceneGivesEmptyLayout) {
+  const test::BuiltBvh b = test::build_flat({}, BuildOptions{});
+  EXPECT_TRUE(b.bvh.empty());
+  EXPECT_EQ(b.bvh.memory_bytes(), 0u);
+}
+
+TEST(Flatten, MalformedTreeThrows) {
+  test::BuiltBvh b = test::build_flat({test::random_soup(100, 2)}, BuildOptions{});
+  BuildTree bad = b.tree;
+  bad.nodes[0].right = static_cast<uint32_t>(bad.nodes.size() + 5);
+  EXPECT_THROW(flatten(bad, b.prims, b.scene), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace hprt

@@ -1,0 +1,221 @@
+// Ray diff classification and judging against the exact arbiter; rays are
+// classified in parallel (oneTBB, caller's arena), counts summed afterwards.
+#include "ray_diff.h"  // validators/ is on the include path of users only
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+namespace hprt {
+namespace {
+
+constexpr double kTinyT = 1e-20;
+
+double tol(double t, const RayDiffOptions& o) {
+  return o.t_rel_tol * std::max(std::fabs(t), kTinyT);
+}
+
+// Tolerance on a candidate's t: relative, plus the t change of an offset of
+// the plane by the edge tolerance (float rounding of grazing rays).
+double ctol(const CandidateResult& c, const RayDiffOptions& o) {
+  return tol(c.t, o) + o.edge_rel_tol * c.scale * c.t_per_distance;
+}
+
+// Possibly hit within float resolution: inside up to the edge tolerance and
+// t inside the interval up to the t tolerance.
+bool near_hit(const CandidateResult& c, const Ray& ray, const RayDiffOptions& o) {
+  if (!c.valid || !std::isfinite(c.t)) return false;
+  if (!(c.margin >= -o.edge_rel_tol * c.scale)) return false;
+  return c.t > double(ray.tnear) - ctol(c, o) && c.t <= double(ray.tfar) + ctol(c, o);
+}
+
+// Surely hit: an exact hit well inside the interval, and inside its triangle
+// by more than the edge tolerance or shared with another exact hit at the
+// same t (an edge or vertex between triangles: missing both is a leak).
+bool sure_hit(const ArbiterAnswer& ans, size_t i, const Ray& ray, const RayDiffOptions& o) {
+  const CandidateResult& c = ans.candidates[i];
+  if (!c.hit) return false;
+  if (!(c.t >= double(ray.tnear) + ctol(c, o) && c.t <= double(ray.tfar) - ctol(c, o)))
+    return false;
+  if (c.margin >= o.edge_rel_tol * c.scale) return true;
+  for (size_t j = 0; j < ans.candidates.size(); ++j) {
+    const CandidateResult& d = ans.candidates[j];
+    if (j != i && d.hit && !(d.prim == c.prim) && std::fabs(d.t - c.t) <= ctol(c, o)) return true;
+  }
+  return false;
+}
+
+void add_unique(std::vector<PrimRef>& v, PrimRef p) {
+  if (std::find(v.begin(), v.end(), p) == v.end()) v.push_back(p);
+}
+
+PrimRef ref_of(const Hit& h) { return {h.geom_id, h.prim_id}; }
+
+ArbiterAnswer arbitrate_dispute(const Scene& scene, const Ray& ray, const Hit* a, const Hit* b,
+                                bool brute_force) {
+  std::vector<PrimRef> cand;
+  if (a && a->hit()) add_unique(cand, ref_of(*a));
+  if (b && b->hit()) add_unique(cand, ref_of(*b));
+  if (brute_force)
+    for (PrimRef p : line_candidates(scene, ray)) add_unique(cand, p);
+  return arbitrate(scene, ray, cand);
+}
+
+void tally(RayDiffResult& r) {
+  for (size_t i = 0; i < r.verdicts.size(); ++i) {
+    switch (r.verdicts[i]) {
+      case RayVerdict::kAgree:
+        ++r.agree;
+        break;
+      case RayVerdict::kTie:
+        ++r.ties;
+        break;
+      case RayVerdict::kBvhRight:
+        ++r.bvh_right;
+        break;
+      case RayVerdict::kEmbreeRight:
+        ++r.embree_right;
+        break;
+      case RayVerdict::kBothRight:
+        ++r.both_right;
+        break;
+      case RayVerdict::kBothWrong:
+        ++r.both_wrong;
+        break;
+    }
+    if (r.verdicts[i] != RayVerdict::kAgree && r.verdicts[i] != RayVerdict::kTie)
+      r.mismatch_indices.push_back(i);
+  }
+  r.mismatches = r.mismatch_indices.size();
+}
+
+RayVerdict verdict(bool bvh_ok, bool embree_ok) {
+  if (bvh_ok && embree_ok) return RayVerdict::kBothRight;
+  if (bvh_ok) return RayVerdict::kBvhRight;
+  if (embree_ok) return RayVerdict::kEmbreeRight;
+  return RayVerdict::kBothWrong;
+}
+
+// Per-ray maxima gathered without locks: one slot per ray.
+double max_of(const std::vector<double>& v) {
+  double m = 0.0;
+  for (double x : v) m = std::max(m, x);
+  return m;
+}
+
+}  // namespace
+
+double rel_t_error(double t, double reference) {
+  return std::fabs(t - reference) / std::max(std::fabs(reference), kTinyT);
+}
+
+bool closest_hit_right(const ArbiterAnswer& ans, const Ray& ray, const Hit& hit,
+                       const RayDiffOptions& o, double* rel_err) {
+  if (!hit.hit()) {
+    for (size_t i = 0; i < ans.candidates.size(); ++i)
+      if (sure_hit(ans, i, ray, o)) return false;
+    return true;
+  }
+  const PrimRef p = ref_of(hit);
+  const auto it = std::find_if(ans.candidates.begin(), ans.candidates.end(),
+                               [&](const CandidateResult& c) { return c.prim == p; });
+  if (it == ans.candidates.end() || !near_hit(*it, ray, o)) return false;
+  const double err = rel_t_error(double(hit.t), it->t);
+  if (rel_err) *rel_err = err;
+  if (std::fabs(double(hit.t) - it->t) > ctol(*it, o)) return false;
+  for (size_t i = 0; i < ans.candidates.size(); ++i)
+    if (sure_hit(ans, i, ray, o) && ans.candidates[i].t < it->t - ctol(*it, o)) return false;
+  return true;
+}
+
+bool occlusion_right(const ArbiterAnswer& ans, const Ray& ray, bool occluded,
+                     const RayDiffOptions& o) {
+  for (size_t i = 0; i < ans.candidates.size(); ++i) {
+    if (occluded && near_hit(ans.candidates[i], ray, o)) return true;
+    if (!occluded && sure_hit(ans, i, ray, o)) return false;
+  }
+  return !occluded;
+}
+
+RayDiffResult diff_hits(const Scene& scene, std::span<const Ray> rays, std::span<const Hit> bvh,
+                        std::span<const Hit> embree, const RayDiffOptions& o) {
+  RayDiffResult r;
+  r.rays = rays.size();
+  r.brute_force = scene.triangle_count() <= o.brute_force_limit;
+  r.verdicts.resize(rays.size());
+  std::vector<double> agree_err(rays.size(), 0.0), dispute_err(rays.size(), 0.0);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, rays.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          const Hit& b = bvh[i];
+          const Hit& e = embree[i];
+          if (!b.hit() && !e.hit()) {
+            r.verdicts[i] = RayVerdict::kAgree;
+            continue;
+          }
+          const bool same_t =
+              b.hit() && e.hit() && std::fabs(double(b.t) - double(e.t)) <= tol(double(e.t), o);
+          if (same_t && ref_of(b) == ref_of(e)) {
+            r.verdicts[i] = RayVerdict::kAgree;
+            agree_err[i] = rel_t_error(b.t, e.t);
+            continue;
+          }
+          const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], &b, &e, r.brute_force);
+          double err = 0.0;
+          const bool bok = closest_hit_right(ans, rays[i], b, o, &err);
+          const bool eok = closest_hit_right(ans, rays[i], e, o);
+          if (bok && b.hit()) dispute_err[i] = err;
+          r.verdicts[i] = same_t && bok && eok ? RayVerdict::kTie : verdict(bok, eok);
+        }
+      });
+  r.max_rel_t_error = max_of(agree_err);
+  r.max_rel_t_error_arbiter = max_of(dispute_err);
+  tally(r);
+  return r;
+}
+
+RayDiffResult diff_occlusion(const Scene& scene, std::span<const Ray> rays,
+                             std::span<const uint8_t> bvh, std::span<const uint8_t> embree,
+                             const RayDiffOptions& o, const Intersector* bvh_backend,
+                             const Intersector* embree_backend) {
+  RayDiffResult r;
+  r.rays = rays.size();
+  r.brute_force = scene.triangle_count() <= o.brute_force_limit;
+  r.verdicts.assign(rays.size(), RayVerdict::kAgree);
+  std::vector<size_t> disputed;
+  for (size_t i = 0; i < rays.size(); ++i)
+    if ((bvh[i] != 0) != (embree[i] != 0)) disputed.push_back(i);
+  // Closest hits of the disputed rays as candidates (needed without brute force).
+  std::vector<Ray> sub(disputed.size());
+  for (size_t k = 0; k < disputed.size(); ++k) sub[k] = rays[disputed[k]];
+  std::vector<Hit> hb(sub.size()), he(sub.size());
+  if (bvh_backend) bvh_backend->intersect(sub, hb);
+  if (embree_backend) embree_backend->intersect(sub, he);
+  tbb::parallel_for(size_t(0), disputed.size(), [&](size_t k) {
+    const size_t i = disputed[k];
+    const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], &hb[k], &he[k], r.brute_force);
+    r.verdicts[i] = verdict(occlusion_right(ans, rays[i], bvh[i] != 0, o),
+                            occlusion_right(ans, rays[i], embree[i] != 0, o));
+  });
+  tally(r);
+  return r;
+}
+
+RayDiffResult run_ray_diff(const Scene& scene, std::span<const Ray> rays, const Intersector& bvh,
+                           const Intersector& embree, bool occluded, const RayDiffOptions& o) {
+  if (occluded) {
+    std::vector<uint8_t> ob(rays.size()), oe(rays.size());
+    bvh.occluded(rays, ob);
+    embree.occluded(rays, oe);
+    return diff_occlusion(scene, rays, ob, oe, o, &bvh, &embree);
+  }
+  std::vector<Hit> hb(rays.size()), he(rays.size());
+  bvh.intersect(rays, hb);
+  embree.intersect(rays, he);
+  return diff_hits(scene, rays, hb, he, o);
+}
+
+}  // namespace hprt

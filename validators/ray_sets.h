@@ -1,0 +1,48 @@
+// Ray-set generators for tracing, benchmarks and validation: coherent primary
+// rays, shadow and reflection rays from primary hits, incoherent random rays
+// and hard numerical cases (vertex/edge probes, grazing, axis-parallel, NaN).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "backends/intersector.h"
+#include "core/ray.h"
+#include "core/scene.h"
+
+namespace hprt {
+
+enum class RayKind {
+  kPrimary,      // camera rays through jittered positions, scanline order
+  kShadow,       // from primary hits toward scene.lights[0]
+  kReflection,   // mirror direction at primary hits
+  kRandom,       // origins in the enlarged scene box, directions uniform on the sphere
+  kVertexProbe,  // from a closed mesh's centroid exactly at one of its vertices
+  kEdgeProbe,    // from a closed mesh's centroid at an edge midpoint
+  kGrazing,      // nearly in a triangle's plane, through its centroid
+  kAxis,         // exactly axis-parallel (other components ±0), through vertices
+  kNan,          // invalid rays that must miss (NaN, inf, zero direction, empty interval)
+};
+
+std::string_view to_string(RayKind kind);
+// Throws InputError("--kind", ...) naming the valid kinds.
+RayKind parse_ray_kind(std::string_view name);
+std::vector<std::string> ray_kind_names();
+
+// n rays of `kind`, the same for the same seed. Shadow and reflection rays
+// trace primary rays through `backend`, which must be built over `scene`;
+// other kinds ignore it. Throws InputError when the scene cannot give this
+// kind (no triangles, no light, no closed mesh for probes, too few hits).
+std::vector<Ray> make_rays(const Scene& scene, RayKind kind, size_t n, uint64_t seed,
+                           const Intersector* backend = nullptr);
+
+// Secondary-ray origin offset of Wächter & Binder, "A Fast and Robust Method
+// for Avoiding Self-Intersection" (Ray Tracing Gems, ch. 6): move p along the
+// unit normal n by a few ulps (256 float steps), or by 1/65536 absolute near
+// the origin (|p| < 1/32) where ulps are too small.
+Vec3f offset_ray_origin(const Vec3f& p, const Vec3f& n);
+
+}  // namespace hprt
