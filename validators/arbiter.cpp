@@ -36,7 +36,6 @@ struct ExactT {
 };
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-constexpr float kFltLarge = 1.844E18f;  // Embree's FLT_LARGE
 
 double max_abs(const Vec3f& v) {
   return std::max({std::fabs(double(v.x)), std::fabs(double(v.y)), std::fabs(double(v.z))});
@@ -124,13 +123,7 @@ int compare_exact(const ExactT& a, const ExactT& b) {
 
 }  // namespace
 
-bool arbiter_ray_valid(const Ray& ray) {
-  for (int k = 0; k < 3; ++k)  // written so that NaN fails too
-    if (!(std::fabs(ray.org[k]) <= kFltLarge) || !(std::fabs(ray.dir[k]) <= kFltLarge))
-      return false;
-  if (ray.dir.x == 0.0f && ray.dir.y == 0.0f && ray.dir.z == 0.0f) return false;
-  return ray.tnear >= 0.0f && ray.tnear <= ray.tfar;
-}
+bool arbiter_ray_valid(const Ray& ray) { return ray_valid(ray); }
 
 CandidateResult arbitrate_triangle(const Ray& ray, const Vec3f& v0, const Vec3f& v1,
                                    const Vec3f& v2) {

@@ -41,13 +41,6 @@ RTCBuildQuality parse_quality(const std::string& q) {
 // anything else is undefined, and Debian's build even aborts on tnear < 0
 // (an assert in bvh_intersector1.cpp). hprt defines all such rays, and those
 // with a zero direction, as misses, answered here without calling Embree.
-constexpr float kFltLarge = 1.844E18f;  // Embree's FLT_LARGE
-inline bool ray_valid(const Ray& r) {
-  for (int k = 0; k < 3; ++k)  // written so that NaN fails too
-    if (!(std::fabs(r.org[k]) <= kFltLarge) || !(std::fabs(r.dir[k]) <= kFltLarge)) return false;
-  if (r.dir.x == 0.0f && r.dir.y == 0.0f && r.dir.z == 0.0f) return false;
-  return r.tnear >= 0.0f && r.tnear <= r.tfar;  // false when either is NaN
-}
 
 inline void to_embree(const Ray& r, RTCRay& e) {
   e.org_x = r.org.x;

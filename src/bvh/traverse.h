@@ -22,13 +22,8 @@ struct TraversalStats {
   uint64_t triangles = 0;  // ray/triangle tests
 };
 
-// Rays that hprt defines as misses, checked once before traversal: NaN or
-// infinite origin/direction, zero direction, NaN interval or tnear > tfar.
-inline bool ray_is_valid(const Ray& r) {
-  if (!is_finite(r.org) || !is_finite(r.dir)) return false;
-  if (r.dir.x == 0.0f && r.dir.y == 0.0f && r.dir.z == 0.0f) return false;
-  return r.tnear <= r.tfar;  // false when either is NaN
-}
+// Rays that hprt defines as misses (core/ray.h), checked once before traversal.
+inline bool ray_is_valid(const Ray& r) { return ray_valid(r); }
 
 namespace detail {
 inline const float* node_floats(const BinaryNode& n) { return &n.min.x; }
