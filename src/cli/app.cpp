@@ -26,7 +26,6 @@ int run(int argc, char** argv) {
   add_trace_command(app, state);
   add_render_command(app, state);
   add_validate_command(app, state);
-  add_bench_command(app, state);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

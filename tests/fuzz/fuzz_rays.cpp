@@ -1,0 +1,25 @@
+// libFuzzer target for the .rays reader: read_rays only takes a path, so the
+// input is written to a per-process temp file first. InputError is expected;
+// anything else is a finding.
+#include <unistd.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <fstream>
+#include <string>
+
+#include "core/error.h"
+#include "io/ray_file.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
+  static const std::string path = "/tmp/hprt_fuzz_" + std::to_string(getpid()) + ".rays";
+  {
+    std::ofstream out(path, std::ios::binary | std::ios::trunc);
+    out.write(reinterpret_cast<const char*>(data), std::streamsize(size));
+  }
+  try {
+    (void)hprt::read_rays(path);
+  } catch (const hprt::InputError&) {
+  }
+  return 0;
+}
