@@ -40,7 +40,7 @@ for name in ply obj scene rays; do
     cp "$work/artifacts-$name/"* "$build/fuzz-artifacts/" 2>/dev/null || true
     echo "fuzz.sh: fuzz_$name FAILED; reproducer(s) copied to $build/fuzz-artifacts/" >&2
   else
-    grep -E '^stat::number_of_executed_runs|^#[0-9]+ *DONE' "$work/$name.log" | tail -n 2 || true
+    grep -E '^stat::(number_of_executed_units|average_exec_per_sec|new_units_added|peak_rss_mb)' "$work/$name.log" || true
   fi
 done
 exit $status
