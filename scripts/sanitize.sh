@@ -2,15 +2,22 @@
 # Sanitizer passes: builds build-asan (-DHPRT_SANITIZE=address: ASan + UBSan,
 # UB aborts) and runs the whole CTest suite there with leak detection on.
 # `--tsan` also builds build-tsan (-DHPRT_SANITIZE=thread) and runs the parallel
-# tests; that part is NOT YET ENABLED by default (not yet verified clean).
+# tests; that part is NOT YET ENABLED by default: as of this writing it reports
+# 2 races on memory freed by the main thread and last read by a TBB worker whose
+# stack TSan cannot restore (likely uninstrumented-libtbb false positives; not
+# yet triaged), so it fails.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 jobs="$(nproc)"
 
 asan="${HPRT_ASAN_BUILD_DIR:-$root/build-asan}"
+# HPRT_BUILD_BENCH stays ON because hprt_cli links hprt_bench (bench/); only
+# `hprt` and the test executables (tests/test_*.cpp, one target each) are built.
+tests=(hprt)
+for f in "$root"/tests/test_*.cpp; do tests+=("$(basename "$f" .cpp)"); done
 cmake -S "$root" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHPRT_SANITIZE=address \
-  -DHPRT_BUILD_BENCH=OFF >/dev/null
-cmake --build "$asan" -j "$jobs"
+  -DHPRT_BUILD_BENCH=ON >/dev/null
+cmake --build "$asan" -j "$jobs" --target "${tests[@]}"
 (
   cd "$asan"
   ASAN_OPTIONS="detect_leaks=1:abort_on_error=0" \
@@ -21,7 +28,7 @@ cmake --build "$asan" -j "$jobs"
 if [[ "${1:-}" == "--tsan" ]]; then
   tsan="${HPRT_TSAN_BUILD_DIR:-$root/build-tsan}"
   cmake -S "$root" -B "$tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHPRT_SANITIZE=thread \
-    -DHPRT_BUILD_BENCH=OFF >/dev/null
+    -DHPRT_BUILD_BENCH=ON >/dev/null
   cmake --build "$tsan" -j "$jobs" --target hprt test_builder_parallel test_bvh_backend \
     test_whitted test_render_golden
   (

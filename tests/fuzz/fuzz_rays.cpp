@@ -1,8 +1,6 @@
 // libFuzzer target for the .rays reader: read_rays only takes a path, so the
 // input is written to a per-process temp file first. InputError is expected;
 // anything else is a finding.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <fstream>
@@ -10,9 +8,11 @@
 
 #include "core/error.h"
 #include "io/ray_file.h"
+#include "temp_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
-  static const std::string path = "/tmp/hprt_fuzz_" + std::to_string(getpid()) + ".rays";
+  static const TempFile file(".rays");
+  const std::string& path = file.path;
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), std::streamsize(size));

@@ -4,8 +4,6 @@
 // that would only exhaust the fuzzer's memory, so inputs asking for more than
 // kMaxFuzzTris anywhere are skipped here.
 // InputError is expected; anything else is a finding.
-#include <unistd.h>
-
 #include <cstddef>
 #include <cstdint>
 #include <fstream>
@@ -16,6 +14,7 @@
 
 #include "core/error.h"
 #include "io/scene_reader.h"
+#include "temp_file.h"
 
 namespace {
 
@@ -43,7 +42,8 @@ extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {
   // Unparsable input goes on to load_scene, which must reject it.
   const auto j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
   if (!j.is_discarded() && asks_for_huge_mesh(j)) return 0;
-  static const std::string path = "/tmp/hprt_fuzz_" + std::to_string(getpid()) + ".json";
+  static const TempFile file(".json");
+  const std::string& path = file.path;
   {
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(text.data(), std::streamsize(size));
