@@ -11,12 +11,11 @@ root="$(cd "$(dirname "$0")/.." && pwd)"
 jobs="$(nproc)"
 
 asan="${HPRT_ASAN_BUILD_DIR:-$root/build-asan}"
-# HPRT_BUILD_BENCH stays ON because hprt_cli links hprt_bench (bench/); only
-# `hprt` and the test executables (tests/test_*.cpp, one target each) are built.
+# Only `hprt` and the test executables (tests/test_*.cpp, one target each).
 tests=(hprt)
 for f in "$root"/tests/test_*.cpp; do tests+=("$(basename "$f" .cpp)"); done
 cmake -S "$root" -B "$asan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHPRT_SANITIZE=address \
-  -DHPRT_BUILD_BENCH=ON >/dev/null
+  -DHPRT_BUILD_BENCH=OFF >/dev/null
 cmake --build "$asan" -j "$jobs" --target "${tests[@]}"
 (
   cd "$asan"
@@ -28,7 +27,7 @@ cmake --build "$asan" -j "$jobs" --target "${tests[@]}"
 if [[ "${1:-}" == "--tsan" ]]; then
   tsan="${HPRT_TSAN_BUILD_DIR:-$root/build-tsan}"
   cmake -S "$root" -B "$tsan" -DCMAKE_BUILD_TYPE=RelWithDebInfo -DHPRT_SANITIZE=thread \
-    -DHPRT_BUILD_BENCH=ON >/dev/null
+    -DHPRT_BUILD_BENCH=OFF >/dev/null
   cmake --build "$tsan" -j "$jobs" --target hprt test_builder_parallel test_bvh_backend \
     test_whitted test_render_golden
   (
