@@ -105,6 +105,31 @@ TEST(RayDiff, ClassifiesHandMadeAnswers) {
   EXPECT_EQ(r.max_rel_t_error, 0.0);
 }
 
+// A fold seen edge-on: triangle 0 in z = 0 over 0 <= y <= 1 - 2|x - 0.5|,
+// triangle 1 sharing its edge on the x axis but hanging steeply down (far
+// vertex at y = 1e-3, z = -0.04), so from above both cover the strip beside
+// the edge. A ray down at y = 1e-6 crosses both within the edge tolerance and
+// at t 4e-5 apart (inside triangle 0's t tolerance): a silhouette the ray
+// enters and leaves again, which a backend may skip (no leak). On the shared
+// edge itself (y = 0) a miss is still a leak.
+TEST(RayDiff, FoldSeenEdgeOnMayBeMissed) {
+  Scene s;
+  TriangleMesh m;
+  m.positions = {{0, 0, 0}, {1, 0, 0}, {0.5f, 1, 0}, {0.5f, 1e-3f, -0.04f}};
+  Vec3u t0, t1;
+  t0.v[0] = 0, t0.v[1] = 1, t0.v[2] = 2;
+  t1.v[0] = 1, t1.v[1] = 0, t1.v[2] = 3;
+  m.triangles = {t0, t1};
+  s.add_mesh(m);
+  const std::vector<Ray> rays = {down(0.5f, 1e-6f), down(0.5f, 0.0f)};
+  const std::vector<Hit> bvh = {kMiss, kMiss};
+  const std::vector<Hit> embree = {hit(0, 0, 5.0f), hit(0, 0, 5.0f)};
+  const RayDiffResult r = diff_hits(s, rays, bvh, embree);
+  ASSERT_EQ(r.verdicts.size(), 2u);
+  EXPECT_EQ(int(r.verdicts[0]), int(RayVerdict::kBothRight));
+  EXPECT_EQ(int(r.verdicts[1]), int(RayVerdict::kEmbreeRight));
+}
+
 TEST(RayDiff, RelativeTTolerance) {
   const Scene s = two_squares();
   const std::vector<Ray> rays = {down(0.75f, 0.25f)};

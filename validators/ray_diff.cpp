@@ -35,6 +35,10 @@ bool near_hit(const CandidateResult& c, const Ray& ray, const RayDiffOptions& o)
 // Surely hit: an exact hit well inside the interval, and inside its triangle
 // by more than the edge tolerance or shared with another exact hit at the
 // same t (an edge or vertex between triangles: missing both is a leak).
+// Two hits both strictly inside near their common edge are a fold seen
+// edge-on (a silhouette: the line crosses the surface twice within float
+// resolution), where missing both is no leak; a leak needs the line on the
+// edge or vertex itself (a zero margin).
 bool sure_hit(const ArbiterAnswer& ans, size_t i, const Ray& ray, const RayDiffOptions& o) {
   const CandidateResult& c = ans.candidates[i];
   if (!c.hit) return false;
@@ -43,7 +47,9 @@ bool sure_hit(const ArbiterAnswer& ans, size_t i, const Ray& ray, const RayDiffO
   if (c.margin >= o.edge_rel_tol * c.scale) return true;
   for (size_t j = 0; j < ans.candidates.size(); ++j) {
     const CandidateResult& d = ans.candidates[j];
-    if (j != i && d.hit && !(d.prim == c.prim) && std::fabs(d.t - c.t) <= ctol(c, o)) return true;
+    if (j == i || !d.hit || d.prim == c.prim || std::fabs(d.t - c.t) > ctol(c, o)) continue;
+    if (c.margin > 0.0 && d.margin > 0.0) continue;  // a fold, not a shared crossing
+    return true;
   }
   return false;
 }
