@@ -75,6 +75,12 @@ struct Bins {
     return AABB({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
   }
   AABB box(size_t i) const { return to_aabb(boxes[i]); }
+  // An AABB as lo/hi vectors. Both loads stay inside the 24-byte box: lanes
+  // min.xyz and (min.z, max.xyz) shuffled to max.xyz.
+  static Box load_box(const AABB& b) {
+    const __m128 hi = _mm_loadu_ps(&b.min.z);
+    return {_mm_loadu_ps(&b.min.x), _mm_shuffle_ps(hi, hi, _MM_SHUFFLE(3, 3, 2, 1))};
+  }
   // Adds one primitive (box b, centroid c) to its bin on every usable axis.
   void add(const BinMapping& m, const AABB& b, const Vec3f& c) {
     // Both loads stay inside the 24-byte box: lanes min.xyz and (min.z, max.xyz).
@@ -172,40 +178,64 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
 // prices the same sets, and ties keep the lowest cut, which is that one).
 // Cheaper than the bins when n is below the bin count (most nodes).
 inline constexpr size_t kSmallNodeMax = 32;
+inline constexpr int kCountingSortBins = 64;  // counting sort by bin up to this many bins
 
 inline BinnedSplit find_binned_split_small(const AABB* prim_bounds, const Vec3f* centroids,
                                            const uint32_t* ids, size_t n, const BinMapping& m,
                                            const SahParams& sah, float parent_area) {
+  static_assert(kSmallNodeMax <= 32, "sort keys keep the local index in 5 bits");
   BinnedSplit best;
-  struct Key {
-    int bin;
-    uint32_t id;
-  };
-  Key keys[kSmallNodeMax];
+  // One gather per primitive (box as SSE lo/hi, bin per axis); the three axes
+  // then work on these local copies only.
+  Bins::Box box[kSmallNodeMax];
+  uint16_t bin[3][kSmallNodeMax];
+  for (size_t i = 0; i < n; ++i) {
+    const uint32_t id = ids[i];
+    box[i] = Bins::load_box(prim_bounds[id]);
+    const Vec3f& c = centroids[id];
+    for (int a = 0; a < 3; ++a) bin[a][i] = static_cast<uint16_t>(m.usable[a] ? m.bin(c[a], a) : 0);
+  }
   float right_area[kSmallNodeMax];
   for (int a = 0; a < 3; ++a) {
     if (!m.usable[a]) continue;
-    for (size_t i = 0; i < n; ++i) {  // insertion sort by bin
-      const Key k{m.bin(centroids[ids[i]][a], a), ids[i]};
-      size_t j = i;
-      for (; j > 0 && keys[j - 1].bin > k.bin; --j) keys[j] = keys[j - 1];
-      keys[j] = k;
+    // Key = bin * 32 + local index (bins <= 1024: fits 15 bits). Sorting the
+    // keys orders by bin and, within a bin, by position: a stable sort by bin.
+    uint16_t keys[kSmallNodeMax];
+    if (n > 8 && m.bins <= kCountingSortBins) {  // counting sort (stable)
+      uint8_t start[kCountingSortBins + 1] = {};
+      for (size_t i = 0; i < n; ++i) ++start[bin[a][i] + 1];
+      for (int b = 1; b < m.bins; ++b) start[b] = static_cast<uint8_t>(start[b] + start[b - 1]);
+      for (size_t i = 0; i < n; ++i)
+        keys[start[bin[a][i]]++] = static_cast<uint16_t>((bin[a][i] << 5) | i);
+    } else {  // insertion sort of the keys
+      for (size_t i = 0; i < n; ++i) {
+        const uint16_t k = static_cast<uint16_t>((bin[a][i] << 5) | i);
+        size_t j = i;
+        for (; j > 0 && keys[j - 1] > k; --j) keys[j] = keys[j - 1];
+        keys[j] = k;
+      }
     }
-    AABB acc;
+    // Suffix areas, needed only where a new bin starts (keys[i] begins a bin).
+    Bins::Box acc = Bins::empty_box();
     for (size_t i = n - 1; i > 0; --i) {
-      acc.extend(prim_bounds[keys[i].id]);
-      right_area[i] = acc.half_area();
+      const Bins::Box& b = box[keys[i] & 31];
+      acc.lo = _mm_min_ps(acc.lo, b.lo);
+      acc.hi = _mm_max_ps(acc.hi, b.hi);
+      if ((keys[i] >> 5) != (keys[i - 1] >> 5)) right_area[i] = Bins::to_aabb(acc).half_area();
     }
-    AABB left;
+    Bins::Box left = Bins::empty_box();
     for (size_t i = 0; i + 1 < n; ++i) {
-      left.extend(prim_bounds[keys[i].id]);
-      if (keys[i + 1].bin == keys[i].bin) continue;  // not the end of an occupied bin
-      const float cost =
-          sah_split_cost(sah, parent_area, left.half_area(), static_cast<uint32_t>(i + 1),
-                         right_area[i + 1], static_cast<uint32_t>(n - i - 1));
+      const Bins::Box& b = box[keys[i] & 31];
+      left.lo = _mm_min_ps(left.lo, b.lo);
+      left.hi = _mm_max_ps(left.hi, b.hi);
+      const int cut = keys[i] >> 5;
+      if ((keys[i + 1] >> 5) == cut) continue;  // not the end of an occupied bin
+      const float cost = sah_split_cost(sah, parent_area, Bins::to_aabb(left).half_area(),
+                                        static_cast<uint32_t>(i + 1), right_area[i + 1],
+                                        static_cast<uint32_t>(n - i - 1));
       if (cost < best.cost) {
         best.axis = a;
-        best.cut = keys[i].bin;
+        best.cut = cut;
         best.cost = cost;
         best.left_count = static_cast<uint32_t>(i + 1);
         best.right_count = static_cast<uint32_t>(n - i - 1);
@@ -213,11 +243,14 @@ inline BinnedSplit find_binned_split_small(const AABB* prim_bounds, const Vec3f*
     }
   }
   if (best.axis >= 0) {
+    Bins::Box l = Bins::empty_box(), r = Bins::empty_box();
     for (size_t i = 0; i < n; ++i) {
-      const uint32_t id = ids[i];
-      const bool left = m.bin(centroids[id][best.axis], best.axis) <= best.cut;
-      (left ? best.left_bounds : best.right_bounds).extend(prim_bounds[id]);
+      Bins::Box& d = bin[best.axis][i] <= best.cut ? l : r;
+      d.lo = _mm_min_ps(d.lo, box[i].lo);
+      d.hi = _mm_max_ps(d.hi, box[i].hi);
     }
+    best.left_bounds = Bins::to_aabb(l);
+    best.right_bounds = Bins::to_aabb(r);
   }
   return best;
 }

@@ -74,6 +74,10 @@ bool traverse(const FlatBvh& bvh, const Ray& ray, Hit& hit, TraversalStats* stat
       const bool hl = slab_robust(slab, detail::node_floats(left[0]), tnear, tfar, tl);
       const bool hr = slab_robust(slab, detail::node_floats(left[1]), tnear, tfar, tr);
 #endif
+      // A hit leaf's triangles are requested now, so their lines are on the
+      // way while the other child (or the stack) is dealt with.
+      if (hl && left[0].is_leaf()) Test::prefetch(tris, left[0].index, left[0].count);
+      if (hr && left[1].is_leaf()) Test::prefetch(tris, left[1].index, left[1].count);
       if (hl && hr) {
         if (tr < tl) {
           stack.push(li, tl);
@@ -106,6 +110,7 @@ bool traverse(const FlatBvh& bvh, const Ray& ray, Hit& hit, TraversalStats* stat
             hit.prim_id = tris.refs[i].prim_id;
             return true;
           }
+          if (!found) __builtin_prefetch(&tris.refs[i]);  // read once, at the end
           found = true;
           found_index = i;
           best = h;

@@ -98,6 +98,13 @@ struct WatertightTest {
     return true;
   }
 
+  // Requests the cache lines of triangles [first, first + count).
+  static void prefetch(const LeafTriangles& tris, uint32_t first, uint32_t count) {
+    const char* b = reinterpret_cast<const char*>(tris.verts.data() + first);
+    __builtin_prefetch(b);
+    __builtin_prefetch(b + count * sizeof(TriangleVerts) - 1);
+  }
+
   static bool intersect(const Prepared& p, const LeafTriangles& tris, uint32_t i, float tnear,
                         float tfar, TriangleHit& hit) {
     const TriangleVerts& t = tris.verts[i];
@@ -130,6 +137,12 @@ struct MollerTest {
     hit.u = u * rcp;
     hit.v = v * rcp;
     return true;
+  }
+
+  static void prefetch(const LeafTriangles& tris, uint32_t first, uint32_t count) {
+    const char* b = reinterpret_cast<const char*>(tris.edges.data() + first);
+    __builtin_prefetch(b);
+    __builtin_prefetch(b + count * sizeof(TriangleEdges) - 1);
   }
 
   static bool intersect(const Prepared& p, const LeafTriangles& tris, uint32_t i, float tnear,
