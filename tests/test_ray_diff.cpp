@@ -108,11 +108,12 @@ TEST(RayDiff, ClassifiesHandMadeAnswers) {
 // A fold seen edge-on: triangle 0 in z = 0 over 0 <= y <= 1 - 2|x - 0.5|,
 // triangle 1 sharing its edge on the x axis but hanging steeply down (far
 // vertex at y = 1e-3, z = -0.04), so from above both cover the strip beside
-// the edge. A ray down at y = 1e-6 crosses both within the edge tolerance and
-// at t 4e-5 apart (inside triangle 0's t tolerance): a silhouette the ray
-// enters and leaves again, which a backend may skip (no leak). On the shared
-// edge itself (y = 0) a miss is still a leak.
-TEST(RayDiff, FoldSeenEdgeOnMayBeMissed) {
+// the edge and nothing covers y < 0. Rays down at y = 1e-6 (inside both,
+// within the edge tolerance, t 4e-5 apart) and at y = 0 (on the shared edge)
+// touch a silhouette: nearby rays pass outside, so a miss is within float
+// resolution. Across the diagonal of a flat square, a ray 1e-7 off the shared
+// edge crosses the surface whichever side it falls: a miss is a leak.
+TEST(RayDiff, FoldSeenEdgeOnMayBeMissedButNotAFlatEdge) {
   Scene s;
   TriangleMesh m;
   m.positions = {{0, 0, 0}, {1, 0, 0}, {0.5f, 1, 0}, {0.5f, 1e-3f, -0.04f}};
@@ -127,7 +128,14 @@ TEST(RayDiff, FoldSeenEdgeOnMayBeMissed) {
   const RayDiffResult r = diff_hits(s, rays, bvh, embree);
   ASSERT_EQ(r.verdicts.size(), 2u);
   EXPECT_EQ(int(r.verdicts[0]), int(RayVerdict::kBothRight));
-  EXPECT_EQ(int(r.verdicts[1]), int(RayVerdict::kEmbreeRight));
+  EXPECT_EQ(int(r.verdicts[1]), int(RayVerdict::kBothRight));
+
+  const Scene flat = two_squares();
+  const std::vector<Ray> near_edge = {down(0.5f + 1e-7f, 0.5f)};
+  const RayDiffResult f =
+      diff_hits(flat, near_edge, std::vector<Hit>{kMiss}, std::vector<Hit>{hit(1, 0, 4.0f)});
+  ASSERT_EQ(f.verdicts.size(), 1u);
+  EXPECT_EQ(int(f.verdicts[0]), int(RayVerdict::kEmbreeRight));
 }
 
 TEST(RayDiff, RelativeTTolerance) {

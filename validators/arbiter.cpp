@@ -7,6 +7,7 @@
 #include "arbiter.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
@@ -50,6 +51,20 @@ double edge_distance(const Expansion& f, int orient, const Vec3d& d, const Vec3d
   return orient * f.estimate() / len;
 }
 
+// Coordinates of the vertices in an orthonormal basis (e1, e2) of the plane
+// perpendicular to the ray, relative to its origin.
+void project_along_ray(const Ray& ray, const std::array<Vec3f, 3>& v, double (&out)[3][2]) {
+  const Vec3d d = normalize(Vec3d(ray.dir));
+  const Vec3d helper = std::fabs(d.x) < 0.5 ? Vec3d(1, 0, 0) : Vec3d(0, 1, 0);
+  const Vec3d e1 = normalize(hprt::cross(d, helper));
+  const Vec3d e2 = hprt::cross(d, e1);
+  for (int i = 0; i < 3; ++i) {
+    const Vec3d q = Vec3d(v[i]) - Vec3d(ray.org);
+    out[i][0] = hprt::dot(q, e1);
+    out[i][1] = hprt::dot(q, e2);
+  }
+}
+
 CandidateResult test_exact(const Ray& ray, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2,
                            ExactT* exact_t) {
   CandidateResult r;
@@ -72,6 +87,7 @@ CandidateResult test_exact(const Ray& ray, const Vec3f& v0, const Vec3f& v1, con
   if (sd == 0) return r;  // parallel to the plane: never a hit (as in Embree)
 
   const Vec3d dd(ray.dir);
+  project_along_ray(ray, {v0, v1, v2}, r.proj);
   r.t_per_distance =
       length(hprt::cross(Vec3d(v1) - Vec3d(v0), Vec3d(v2) - Vec3d(v0))) / std::fabs(den.estimate());
   const double mu = edge_distance(u, sd, dd, Vec3d(v2) - Vec3d(v1));
@@ -161,7 +177,7 @@ ArbiterAnswer arbitrate(const Scene& scene, const Ray& ray, std::span<const Prim
   return ans;
 }
 
-std::vector<PrimRef> line_candidates(const Scene& scene, const Ray& ray) {
+std::vector<PrimRef> line_candidates(const Scene& scene, const Ray& ray, double near_rel) {
   std::vector<PrimRef> out;
   if (!arbiter_ray_valid(ray)) return out;
   const Vec3d o(ray.org), d(ray.dir);
@@ -169,14 +185,17 @@ std::vector<PrimRef> line_candidates(const Scene& scene, const Ray& ray) {
   // Edge function f = d·(P×Q) in double from P, Q = vertex - origin (each
   // rounded once): its error is below ~10 ulps of the permanent
   // |d|·(|P|×|Q|); 1e-13 of it (~900 ulps) plus an absolute floor is safe.
-  auto edge = [&](const Vec3d& p, const Vec3d& q, double& f, double& bound) {
+  // f / |d × (Q - P)| is the signed distance from the line to the edge, so
+  // widening the bound by near · |d × (Q - P)| keeps near misses.
+  auto edge = [&](const Vec3d& p, const Vec3d& q, double near, double& f, double& bound) {
     f = dot(d, hprt::cross(p, q));
     const Vec3d ap(std::fabs(p.x), std::fabs(p.y), std::fabs(p.z));
     const Vec3d aq(std::fabs(q.x), std::fabs(q.y), std::fabs(q.z));
     const Vec3d perm(ap.y * aq.z + ap.z * aq.y, ap.z * aq.x + ap.x * aq.z,
                      ap.x * aq.y + ap.y * aq.x);
-    bound = 1e-13 * dot(ad, perm) + 1e-300;
+    bound = 1e-13 * dot(ad, perm) + 1e-300 + near * length(hprt::cross(d, q - p));
   };
+  const double org_scale = max_abs(ray.org);
   for (uint32_t g = 0; g < scene.meshes.size(); ++g) {
     const TriangleMesh& m = scene.meshes[g];
     const size_t nv = m.positions.size();
@@ -186,10 +205,13 @@ std::vector<PrimRef> line_candidates(const Scene& scene, const Ray& ray) {
       const Vec3f &v0 = m.positions[t[0]], &v1 = m.positions[t[1]], &v2 = m.positions[t[2]];
       if (!is_finite(v0) || !is_finite(v1) || !is_finite(v2)) continue;
       const Vec3d a = Vec3d(v0) - o, b = Vec3d(v1) - o, c = Vec3d(v2) - o;
+      const double near =
+          near_rel > 0 ? near_rel * std::max({org_scale, max_abs(v0), max_abs(v1), max_abs(v2)})
+                       : 0.0;
       double fu, bu, fv, bv, fw, bw;
-      edge(b, c, fu, bu);
-      edge(c, a, fv, bv);
-      edge(a, b, fw, bw);
+      edge(b, c, near, fu, bu);
+      edge(c, a, near, fv, bv);
+      edge(a, b, near, fw, bw);
       const bool pos = fu > bu || fv > bv || fw > bw;
       const bool neg = fu < -bu || fv < -bv || fw < -bw;
       if (pos && neg) continue;  // proven: the line passes outside
@@ -199,8 +221,8 @@ std::vector<PrimRef> line_candidates(const Scene& scene, const Ray& ray) {
   return out;
 }
 
-ArbiterAnswer arbitrate_brute_force(const Scene& scene, const Ray& ray) {
-  const std::vector<PrimRef> c = line_candidates(scene, ray);
+ArbiterAnswer arbitrate_brute_force(const Scene& scene, const Ray& ray, double near_rel) {
+  const std::vector<PrimRef> c = line_candidates(scene, ray, near_rel);
   return arbitrate(scene, ray, c);
 }
 

@@ -33,6 +33,10 @@ struct CandidateResult {
   // Change of t per unit offset of the plane along its normal, |n| / |d·n|:
   // large for grazing rays, whose float t is ill-conditioned.
   double t_per_distance = 0.0;
+  // The triangle projected along the ray onto a plane perpendicular to it, in
+  // world units, with the ray's line at (0, 0) (double: for tolerance checks
+  // such as whether the triangles near the line cover all around it).
+  double proj[3][2] = {};
 };
 
 struct ArbiterAnswer {
@@ -59,12 +63,14 @@ CandidateResult arbitrate_triangle(const Ray& ray, const Vec3f& v0, const Vec3f&
 ArbiterAnswer arbitrate(const Scene& scene, const Ray& ray, std::span<const PrimRef> candidates);
 
 // Every triangle of the scene whose edge functions, evaluated in double with
-// a safe error bound, do not prove that the ray's line misses it: a superset
-// of the triangles the ray hits. O(triangles) per ray.
-std::vector<PrimRef> line_candidates(const Scene& scene, const Ray& ray);
+// a safe error bound, do not prove that the ray's line passes farther than
+// near_rel * scale outside it (scale = largest coordinate of the ray origin
+// and the triangle): a superset of the triangles the ray hits, plus, with
+// near_rel > 0, the neighbours it just misses. O(triangles) per ray.
+std::vector<PrimRef> line_candidates(const Scene& scene, const Ray& ray, double near_rel = 0.0);
 
 // arbitrate() over line_candidates(): the exact answer over the whole scene.
-ArbiterAnswer arbitrate_brute_force(const Scene& scene, const Ray& ray);
+ArbiterAnswer arbitrate_brute_force(const Scene& scene, const Ray& ray, double near_rel = 0.0);
 
 // Exact sign of t(a) - t(b) for two candidates of the same ray that are both
 // inside (not parallel): -1, 0 or 1.

@@ -32,26 +32,60 @@ bool near_hit(const CandidateResult& c, const Ray& ray, const RayDiffOptions& o)
   return c.t > double(ray.tnear) - ctol(c, o) && c.t <= double(ray.tfar) + ctol(c, o);
 }
 
+// Whether (x, y) lies in the closed projected triangle, up to `slack` world
+// units outside it. A triangle seen edge-on covers no area and never counts.
+bool projected_contains(const CandidateResult& c, double x, double y, double slack) {
+  const double(&p)[3][2] = c.proj;
+  const double area =
+      (p[1][0] - p[0][0]) * (p[2][1] - p[0][1]) - (p[1][1] - p[0][1]) * (p[2][0] - p[0][0]);
+  if (!(std::fabs(area) > 0.0)) return false;
+  for (int i = 0; i < 3; ++i) {
+    const double* a = p[i];
+    const double* b = p[(i + 1) % 3];
+    const double ex = b[0] - a[0], ey = b[1] - a[1];
+    const double len = std::hypot(ex, ey);
+    if (len == 0.0) return false;
+    const double side = (ex * (y - a[1]) - ey * (x - a[0])) * (area > 0 ? 1.0 : -1.0);
+    if (side / len < -slack) return false;
+  }
+  return true;
+}
+
+// Whether the triangles of `group` cover every point at distance r / 2 from
+// the ray's line (32 directions) and the line itself: then every ray within
+// float resolution crosses the surface there, so a miss is a leak. At a
+// silhouette (a fold seen edge-on, a vertex whose fan folds over as seen from
+// the ray) some nearby rays pass outside, and a miss is within resolution.
+bool covers_around_line(const std::vector<const CandidateResult*>& group, double r) {
+  constexpr int kDirections = 32;
+  const double slack = 1e-6 * r;
+  for (int k = -1; k < kDirections; ++k) {
+    const double angle = 2.0 * M_PI * k / kDirections;
+    const double x = k < 0 ? 0.0 : 0.5 * r * std::cos(angle);
+    const double y = k < 0 ? 0.0 : 0.5 * r * std::sin(angle);
+    bool covered = false;
+    for (const CandidateResult* c : group) covered = covered || projected_contains(*c, x, y, slack);
+    if (!covered) return false;
+  }
+  return true;
+}
+
 // Surely hit: an exact hit well inside the interval, and inside its triangle
-// by more than the edge tolerance or shared with another exact hit at the
-// same t (an edge or vertex between triangles: missing both is a leak).
-// Two hits both strictly inside near their common edge are a fold seen
-// edge-on (a silhouette: the line crosses the surface twice within float
-// resolution), where missing both is no leak; a leak needs the line on the
-// edge or vertex itself (a zero margin).
+// by more than the edge tolerance r, or near an edge or vertex where the
+// triangles at the same t cover all around the ray's line (a crossing through
+// an edge or vertex between triangles: missing all of them is a leak).
 bool sure_hit(const ArbiterAnswer& ans, size_t i, const Ray& ray, const RayDiffOptions& o) {
   const CandidateResult& c = ans.candidates[i];
   if (!c.hit) return false;
   if (!(c.t >= double(ray.tnear) + ctol(c, o) && c.t <= double(ray.tfar) - ctol(c, o)))
     return false;
-  if (c.margin >= o.edge_rel_tol * c.scale) return true;
-  for (size_t j = 0; j < ans.candidates.size(); ++j) {
-    const CandidateResult& d = ans.candidates[j];
-    if (j == i || !d.hit || d.prim == c.prim || std::fabs(d.t - c.t) > ctol(c, o)) continue;
-    if (c.margin > 0.0 && d.margin > 0.0) continue;  // a fold, not a shared crossing
-    return true;
-  }
-  return false;
+  const double r = o.edge_rel_tol * c.scale;
+  if (c.margin >= r) return true;
+  std::vector<const CandidateResult*> group;
+  for (const CandidateResult& d : ans.candidates)
+    if (d.valid && std::isfinite(d.t) && d.margin >= -r && std::fabs(d.t - c.t) <= ctol(c, o))
+      group.push_back(&d);
+  return covers_around_line(group, r);
 }
 
 void add_unique(std::vector<PrimRef>& v, PrimRef p) {
@@ -61,12 +95,12 @@ void add_unique(std::vector<PrimRef>& v, PrimRef p) {
 PrimRef ref_of(const Hit& h) { return {h.geom_id, h.prim_id}; }
 
 ArbiterAnswer arbitrate_dispute(const Scene& scene, const Ray& ray, const Hit* a, const Hit* b,
-                                bool brute_force) {
+                                bool brute_force, const RayDiffOptions& o) {
   std::vector<PrimRef> cand;
   if (a && a->hit()) add_unique(cand, ref_of(*a));
   if (b && b->hit()) add_unique(cand, ref_of(*b));
   if (brute_force)
-    for (PrimRef p : line_candidates(scene, ray)) add_unique(cand, p);
+    for (PrimRef p : line_candidates(scene, ray, o.edge_rel_tol)) add_unique(cand, p);
   return arbitrate(scene, ray, cand);
 }
 
@@ -169,7 +203,7 @@ RayDiffResult diff_hits(const Scene& scene, std::span<const Ray> rays, std::span
             agree_err[i] = rel_t_error(b.t, e.t);
             continue;
           }
-          const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], &b, &e, r.brute_force);
+          const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], &b, &e, r.brute_force, o);
           double err = 0.0;
           const bool bok = closest_hit_right(ans, rays[i], b, o, &err);
           const bool eok = closest_hit_right(ans, rays[i], e, o);
@@ -202,7 +236,7 @@ RayDiffResult diff_occlusion(const Scene& scene, std::span<const Ray> rays,
   if (embree_backend) embree_backend->intersect(sub, he);
   tbb::parallel_for(size_t(0), disputed.size(), [&](size_t k) {
     const size_t i = disputed[k];
-    const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], &hb[k], &he[k], r.brute_force);
+    const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], &hb[k], &he[k], r.brute_force, o);
     r.verdicts[i] = verdict(occlusion_right(ans, rays[i], bvh[i] != 0, o),
                             occlusion_right(ans, rays[i], embree[i] != 0, o));
   });
