@@ -2,6 +2,9 @@
 // (the builder named in the options, oneTBB inside the caller's task arena)
 // -> tree statistics -> flattened binary layout; batches of rays traced in
 // parallel blocks with one switch per batch into a fully inlined traversal.
+// update(): per BackendOptions::update, a full rebuild, a refit over the last
+// build's topology (bvh/refit.h), or adaptive (refit, then rebuild when the
+// refitted SAH cost exceeds adaptive_factor x the cost at the last rebuild).
 #include "backends/bvh_backend.h"
 
 #include <tbb/blocked_range.h>
@@ -10,9 +13,11 @@
 #include <chrono>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 #include "bvh/builders.h"
 #include "bvh/flatten.h"
+#include "bvh/refit.h"
 #include "bvh/traverse.h"
 
 namespace hprt {
@@ -56,21 +61,44 @@ class BvhIntersector final : public Intersector {
     info_.has_tree_stats = true;
   }
 
-  void build(const Scene& scene) override {
-    const auto start = std::chrono::steady_clock::now();
-    const PrimInfo prims = make_prim_info(scene);
-    const BuildTree tree = build_tree(prims, options_.build);
-    bvh_ = flatten(tree, prims, scene);
-    info_.build_ms = ms_since(start);  // prim info + build + flatten
-    info_.stats = compute_tree_stats(tree, prims);
-    info_.memory_bytes = bvh_.memory_bytes();
-    info_.rebuilt = true;
-  }
+  void build(const Scene& scene) override { info_.build_ms = rebuild(scene); }
 
-  // Vertices moved: for now always a full rebuild (correct for any change).
-  // A refit would keep the BuildTree/PrimInfo of the last build and update
-  // bounds bottom-up here, choosing per options_.update.
-  void update(const Scene& scene) override { build(scene); }
+  // The caller moved vertices (same meshes, triangle indices and counts).
+  // Whatever the strategy, a change of the set of valid triangles (one became
+  // degenerate or non-finite, or valid again) or of the mesh layout forces a
+  // rebuild: the tree only holds the triangles that were valid at its build.
+  // After a refit, info().stats has the refitted sah_cost; the topology
+  // figures (nodes, leaves, depth, leaf sizes, triangle counts) are those of
+  // the last rebuild and still true, and tree_hash is the last rebuild's.
+  // A refit allocates nothing: it rewrites the existing nodes and triangles.
+  // build_ms: the whole update (checks, refit, rebuild), without the
+  // reporting-only tree statistics of a rebuild (as for build()).
+  void update(const Scene& scene) override {
+    const auto start = std::chrono::steady_clock::now();
+    bool rebuilt = true;
+    double ms = 0.0;
+    if (options_.update == UpdateStrategy::kRebuild || !same_layout(scene) ||
+        invalid_became_valid(scene)) {
+      ms = ms_since(start) + rebuild(scene);
+    } else {
+      // Only the array this backend's triangle test reads is re-gathered.
+      const RefitResult r =
+          refit(bvh_, scene,
+                options_.triangle_test == TriangleTestKind::kMoller ? RefitTriangles::kEdges
+                                                                    : RefitTriangles::kVerts,
+                &refit_index_);
+      if (!r.valid || (options_.update == UpdateStrategy::kAdaptive &&
+                       r.sah_cost > double(options_.adaptive_factor) * rebuild_sah_cost_)) {
+        ms = ms_since(start) + rebuild(scene);
+      } else {
+        info_.stats.sah_cost = r.sah_cost;
+        rebuilt = false;
+        ms = ms_since(start);
+      }
+    }
+    info_.rebuilt = rebuilt;
+    info_.build_ms = ms;
+  }
 
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override {
     if (hits.size() < rays.size())
@@ -101,9 +129,66 @@ class BvhIntersector final : public Intersector {
   BuildInfo info() const override { return info_; }
 
  private:
+  // Full build; returns its ms: prim info + build + flatten + what update()
+  // needs later (layout record, the new tree's SAH cost, parallel). The tree
+  // statistics and hash (sequential, for reporting) are computed after that.
+  double rebuild(const Scene& scene) {
+    const auto start = std::chrono::steady_clock::now();
+    const PrimInfo prims = make_prim_info(scene);
+    const BuildTree tree = build_tree(prims, options_.build);
+    bvh_ = flatten(tree, prims, scene);
+    record_layout(scene, prims);
+    refit_index_ = make_refit_index(bvh_, scene);
+    rebuild_sah_cost_ = flat_sah_cost(bvh_);  // = stats.sah_cost up to rounding
+    const double ms = ms_since(start);
+    info_.stats = compute_tree_stats(tree, prims);
+    info_.memory_bytes = bvh_.memory_bytes();
+    info_.rebuilt = true;
+    return ms;
+  }
+
+  // What the tree was built over: per mesh its vertex and triangle counts,
+  // and the triangles left out as invalid (usually none).
+  void record_layout(const Scene& scene, const PrimInfo& prims) {
+    layout_.resize(scene.meshes.size());
+    for (size_t g = 0; g < scene.meshes.size(); ++g)
+      layout_[g] = {scene.meshes[g].vertex_count(), scene.meshes[g].triangle_count()};
+    invalid_.clear();
+    if (prims.invalid == 0) return;
+    invalid_.reserve(prims.invalid);
+    for (size_t g = 0; g < scene.meshes.size(); ++g)
+      for (size_t i = 0; i < scene.meshes[g].triangle_count(); ++i)
+        if (!scene.meshes[g].triangle_valid(i))
+          invalid_.push_back({static_cast<uint32_t>(g), static_cast<uint32_t>(i)});
+  }
+
+  bool same_layout(const Scene& scene) const {
+    if (scene.meshes.size() != layout_.size()) return false;
+    for (size_t g = 0; g < layout_.size(); ++g)
+      if (layout_[g].vertices != scene.meshes[g].vertex_count() ||
+          layout_[g].triangles != scene.meshes[g].triangle_count())
+        return false;
+    return true;
+  }
+
+  bool invalid_became_valid(const Scene& scene) const {
+    for (const PrimRef& r : invalid_)
+      if (scene.meshes[r.geom_id].triangle_valid(r.prim_id)) return true;
+    return false;
+  }
+
+  struct MeshLayout {
+    size_t vertices = 0;
+    size_t triangles = 0;
+  };
+
   BackendOptions options_;
   FlatBvh bvh_;
   BuildInfo info_;
+  std::vector<MeshLayout> layout_;  // per mesh at the last rebuild
+  std::vector<PrimRef> invalid_;    // triangles left out at the last rebuild
+  RefitIndex refit_index_;          // leaf-order vertex indices for refit()
+  double rebuild_sah_cost_ = 0.0;   // sah_cost right after the last rebuild
 };
 
 }  // namespace

@@ -286,16 +286,22 @@ class EmbreeIntersector final : public Intersector {
   void build_scene(const Scene& scene) {
     for (const TriangleMesh& m : scene.meshes) check_indices(m);
     release_scene();
-    const bool dynamic = quality_ == RTC_BUILD_QUALITY_LOW || quality_ == RTC_BUILD_QUALITY_REFIT;
+    // Deformable scenes (Embree 3 scene.cpp, createTriangleAccel): only a scene
+    // of build quality LOW gets the two-level structure whose per-geometry
+    // BVHs honour the geometry build quality (REFIT: refit the first SAH tree
+    // on every commit; LOW: Morton rebuild). So quality low or refit means
+    // scene quality LOW + geometry quality low/refit; medium and high keep a
+    // one-level BVH of that quality, rebuilt on every commit. An animated
+    // scene, or quality low/refit, also gets RTC_SCENE_FLAG_DYNAMIC.
+    const bool two_level = quality_ == RTC_BUILD_QUALITY_LOW || quality_ == RTC_BUILD_QUALITY_REFIT;
+    const bool dynamic = two_level || scene.animation.animated();
     scene_ = rtcNewScene(device_.get());
     device_.check("rtcNewScene");
     int flags = RTC_SCENE_FLAG_NONE;
     if (options_.embree_robust) flags |= RTC_SCENE_FLAG_ROBUST;
     if (dynamic) flags |= RTC_SCENE_FLAG_DYNAMIC;
     rtcSetSceneFlags(scene_, RTCSceneFlags(flags));
-    // The scene-level quality has no REFIT; refit lives on the geometries.
-    rtcSetSceneBuildQuality(
-        scene_, quality_ == RTC_BUILD_QUALITY_REFIT ? RTC_BUILD_QUALITY_MEDIUM : quality_);
+    rtcSetSceneBuildQuality(scene_, two_level ? RTC_BUILD_QUALITY_LOW : quality_);
     geoms_.resize(scene.meshes.size());
     for (size_t i = 0; i < scene.meshes.size(); ++i) {
       const TriangleMesh& m = scene.meshes[i];

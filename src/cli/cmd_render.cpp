@@ -1,18 +1,27 @@
 // `hprt render SCENE [--backend bvh|embree] [BACKEND OPTIONS] [--width W]
-// [--height H] [--focal MM] [--threads N] -o OUT.png|OUT.exr [--json]`:
-// builds a backend over the scene, renders it Whitted style (src/render) and
-// writes the image; a one-line summary goes to stderr, --json to stdout.
+// [--height H] [--focal MM] [--threads N] [--frames A:B] -o OUT.png|OUT_%04d.png
+// [--json]`: builds a backend over the scene, renders it Whitted style
+// (src/render) and writes the image; a one-line summary goes to stderr, --json
+// to stdout. An animated scene renders frame 0 without --frames; with it,
+// frames A..B-1: frame A built, later ones animated in place and updated
+// (--update), one JSON line per frame and a summary on stderr.
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
+#include <vector>
 
+#include "anim/frame_pattern.h"
+#include "anim/scene_animator.h"
 #include "backends/intersector.h"
 #include "cli/commands.h"
+#include "cli/frame_range.h"
+#include "core/error.h"
 #include "core/parallel.h"
 #include "io/image_io.h"
 #include "io/scene_reader.h"
@@ -31,6 +40,7 @@ struct RenderArgs {
   int width = 0;  // 0: the scene's
   int height = 0;
   float focal_mm = 0.0f;
+  std::string frames;  // "A:B"; empty: one still image (frame 0 of an animated scene)
   bool json = false;
   BackendCliOptions backend;
 };
@@ -81,10 +91,27 @@ FrameReport render_frame(const Scene& scene, const Camera& camera, const Interse
   return report;
 }
 
-void run_render(const RenderArgs& a) {
+double median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::sort(v.begin(), v.end());
+  const size_t n = v.size();
+  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double mrays_per_s(const FrameReport& f) {
+  return f.render_ms > 0.0 ? double(f.stats.rays()) / (f.render_ms * 1e3) : 0.0;
+}
+
+// The `strategy` a frame line reports: the bvh update policy, or Embree's
+// dynamic-scene commit at its build quality.
+std::string strategy_name(const BackendOptions& options, const BackendCliOptions& cli) {
+  return options.backend == "embree" ? "embree-" + cli.quality : cli.update;
+}
+
+void run_still(const RenderArgs& a) {
   check_image_output(a.output);  // unknown extension or missing directory: fail before work
   const BackendOptions options = finish_backend_options(a.backend);
-  const Scene scene = load_scene(a.scene);
+  Scene scene = load_scene(a.scene);
   const Camera camera = render_camera(scene.camera, a);
 
   BuildInfo info;
@@ -92,6 +119,7 @@ void run_render(const RenderArgs& a) {
   int threads = 0;
   run_with_threads(options.threads, [&] {
     threads = resolve_threads(options.threads);
+    if (scene.animation.animated()) SceneAnimator(scene).apply(0, scene);  // = --frames 0:1
     std::unique_ptr<Intersector> backend = make_intersector(options.backend, options);
     backend->build(scene);
     info = backend->info();
@@ -99,7 +127,7 @@ void run_render(const RenderArgs& a) {
   });
 
   const uint64_t rays = frame.stats.rays();
-  const double mrays = frame.render_ms > 0.0 ? double(rays) / (frame.render_ms * 1e3) : 0.0;
+  const double mrays = mrays_per_s(frame);
   std::fprintf(stderr,
                "hprt render: %s, %zu triangles, %dx%d, %d threads: build %.2f ms, render %.2f "
                "ms, %llu rays (%llu primary, %llu shadow, %llu reflection), %.2f Mrays/s -> %s\n",
@@ -128,6 +156,100 @@ void run_render(const RenderArgs& a) {
   }
 }
 
+// --frames A:B: frame A is animated and built from scratch, each later frame
+// animated in place and brought up to date with backend->update().
+void run_frames(const RenderArgs& a) {
+  const BackendOptions options = finish_backend_options(a.backend);
+  FrameRange probe = parse_frame_range(a.frames, 1'000'000'000);  // syntax before any work
+  const bool numbered = has_frame_number(a.output, "--output");
+  if (probe.count() > 1 && !numbered)
+    throw InputError("--output", "'" + a.output + "' renders " + std::to_string(probe.count()) +
+                                     " frames: it needs a frame number conversion such as "
+                                     "%04d (out_%04d.png)");
+  check_image_output(format_frame_path(a.output, probe.first));
+  Scene scene = load_scene(a.scene);
+  const Camera camera = render_camera(scene.camera, a);
+  const std::string strategy = strategy_name(options, a.backend);
+
+  struct FrameTimes {
+    double animate_ms, update_ms, render_ms;
+    bool rebuilt;
+  };
+  std::vector<FrameTimes> times;
+  int threads = 0;
+  std::string config;
+  run_with_threads(options.threads, [&] {
+    threads = resolve_threads(options.threads);
+    const SceneAnimator animator(scene);
+    const FrameRange range = parse_frame_range(a.frames, animator.frames());
+    std::unique_ptr<Intersector> backend = make_intersector(options.backend, options);
+    for (int k = range.first; k < range.end; ++k) {
+      auto start = std::chrono::steady_clock::now();
+      animator.apply(k, scene);
+      const double animate_ms = ms_since(start);
+      if (k == range.first)
+        backend->build(scene);
+      else
+        backend->update(scene);
+      BuildInfo info = backend->info();
+      if (k == range.first) info.rebuilt = true;  // the first frame's build counts as its update
+      config = info.name;
+      const FrameReport frame =
+          render_frame(scene, camera, *backend, format_frame_path(a.output, k));
+      times.push_back({animate_ms, info.build_ms, frame.render_ms, info.rebuilt});
+      std::fprintf(stderr, "hprt render: frame %d: update %.2f ms (%s), render %.2f ms -> %s\n", k,
+                   info.build_ms, info.rebuilt ? "rebuilt" : "refit", frame.render_ms,
+                   frame.output.c_str());
+      if (a.json) {
+        nlohmann::json j;
+        j["frame"] = k;
+        j["strategy"] = strategy;
+        j["update_ms"] = info.build_ms;
+        j["sah_cost"] =
+            info.has_tree_stats ? nlohmann::json(info.stats.sah_cost) : nlohmann::json();
+        j["rebuilt"] = info.rebuilt;
+        j["render_ms"] = frame.render_ms;
+        j["mrays_per_s"] = mrays_per_s(frame);
+        j["output"] = frame.output;
+        j["animate_ms"] = animate_ms;
+        j["rays"] = frame.stats.rays();
+        j["backend"] = options.backend;
+        j["config"] = info.name;
+        j["triangles"] = scene.triangle_count();
+        j["width"] = camera.width;
+        j["height"] = camera.height;
+        j["threads"] = threads;
+        std::cout << j.dump() << std::endl;
+      }
+    }
+  });
+
+  std::vector<double> update, render;
+  double update_total = 0.0, render_total = 0.0;
+  int rebuilds = 0;
+  for (const FrameTimes& t : times) {
+    update.push_back(t.update_ms);
+    render.push_back(t.render_ms);
+    update_total += t.update_ms;
+    render_total += t.render_ms;
+    rebuilds += t.rebuilt ? 1 : 0;
+  }
+  std::fprintf(stderr,
+               "hprt render: %zu frame%s (%s), %s, %s, %zu triangles, %dx%d, %d threads: update "
+               "median %.2f ms, total %.2f ms (%d rebuilds incl. the first build); render median "
+               "%.2f ms, total %.2f ms\n",
+               times.size(), times.size() == 1 ? "" : "s", a.frames.c_str(), config.c_str(),
+               strategy.c_str(), scene.triangle_count(), camera.width, camera.height, threads,
+               median(update), update_total, rebuilds, median(render), render_total);
+}
+
+void run_render(const RenderArgs& a) {
+  if (a.frames.empty())
+    run_still(a);
+  else
+    run_frames(a);
+}
+
 }  // namespace
 
 void add_render_command(CLI::App& app, CommandState& /*state*/) {
@@ -135,7 +257,8 @@ void add_render_command(CLI::App& app, CommandState& /*state*/) {
   CLI::App* cmd = app.add_subcommand("render", "render a scene (Whitted: shadows, reflections)");
   cmd->add_option("scene", args->scene, "scene JSON or mesh file (OBJ/PLY)")->required();
   cmd->add_option("-o,--output", args->output,
-                  "output image; format from the extension (.png 8-bit sRGB, .exr float linear)")
+                  "output image; format from the extension (.png 8-bit sRGB, .exr float linear); "
+                  "with --frames a pattern with one %d-style frame number, e.g. out_%04d.png")
       ->required();
   cmd->add_option("--width", args->width, "image width (overrides the scene camera)")
       ->check(CLI::Range(1, 65536));
@@ -143,7 +266,12 @@ void add_render_command(CLI::App& app, CommandState& /*state*/) {
       ->check(CLI::Range(1, 65536));
   cmd->add_option("--focal", args->focal_mm, "focal length in mm (overrides the scene camera)")
       ->check(CLI::Range(0.1f, 100000.0f));
-  cmd->add_flag("--json", args->json, "print one JSON object on stdout");
+  cmd->add_option("--frames", args->frames,
+                  "animated scene: render frames A to B-1 (A:B), building at A and updating the "
+                  "acceleration structure per --update after that; without it an animated scene "
+                  "renders frame 0 (the same image as --frames 0:1)");
+  cmd->add_flag("--json", args->json,
+                "print one JSON object on stdout (with --frames: one line per frame)");
   add_backend_options(*cmd, args->backend);
   cmd->callback([args] { run_render(*args); });
 }

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "core/vec.h"
+
 namespace hprt {
 
 struct DeformerSpec {
@@ -21,6 +23,11 @@ struct FrameSequenceSpec {
   int mesh = 0;
   std::string pattern;  // printf-style path, e.g. "frames/cloth_%04d.ply"
   int first = 0;
+  // The mesh entry's placement (io/scene_transform.h), applied to every frame
+  // file as to the mesh itself; filled by the scene reader.
+  Vec3f scale{1.0f, 1.0f, 1.0f};
+  Vec3f rotate_deg{0.0f, 0.0f, 0.0f};
+  Vec3f translate{0.0f, 0.0f, 0.0f};
 };
 
 struct Animation {

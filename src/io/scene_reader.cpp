@@ -70,6 +70,12 @@ class SceneParser {
       entries.push_back(read_mesh(list[i], index("meshes", i)));
     if (const Json* j = top.find("animation")) scene.animation = read_animation(*j, entries.size());
     top.finish();
+    for (FrameSequenceSpec& s : scene.animation.sequences) {  // frame files placed as the mesh
+      const MeshTransform& t = entries[size_t(s.mesh)].transform;
+      s.scale = t.scale;
+      s.rotate_deg = t.rotate_deg;
+      s.translate = t.translate;
+    }
 
     for (size_t i = 0; i < entries.size(); ++i) {
       const MeshEntry& e = entries[i];

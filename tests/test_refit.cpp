@@ -1,0 +1,335 @@
+// Refit (bvh/refit.h): after any deformation every node box is exactly the
+// union of its children (leaves: of their triangles, re-gathered from the
+// scene), the SAH cost of the flat tree equals compute_tree_stats' right after
+// a build, the result does not depend on the thread count, an invalidated
+// triangle is reported, and a refit allocates nothing.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <new>
+#include <string>
+#include <vector>
+
+#include "anim/scene_animator.h"
+#include "bvh/builders.h"
+#include "bvh/flatten.h"
+#include "bvh/refit.h"
+#include "bvh_test_meshes.h"
+#include "core/mesh_generators.h"
+#include "core/parallel.h"
+
+// Counting global operator new: refit must not allocate (counted only while
+// g_counting is set, on every thread).
+namespace {
+std::atomic<bool> g_counting{false};
+std::atomic<long> g_allocations{0};
+void* counted_alloc(std::size_t n, std::size_t align) {
+  if (g_counting.load(std::memory_order_relaxed)) g_allocations.fetch_add(1);
+  if (n == 0) n = 1;
+  void* p = align > alignof(std::max_align_t)
+                ? std::aligned_alloc(align, (n + align - 1) / align * align)
+                : std::malloc(n);
+  if (!p) throw std::bad_alloc();
+  return p;
+}
+}  // namespace
+void* operator new(std::size_t n) { return counted_alloc(n, 0); }
+void* operator new[](std::size_t n) { return counted_alloc(n, 0); }
+void* operator new(std::size_t n, std::align_val_t a) { return counted_alloc(n, size_t(a)); }
+void* operator new[](std::size_t n, std::align_val_t a) { return counted_alloc(n, size_t(a)); }
+void operator delete(void* p) noexcept { std::free(p); }
+void operator delete[](void* p) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
+void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
+
+namespace hprt {
+namespace {
+
+constexpr int kThreads = 2;
+
+FlatBvh build_flat(const Scene& scene, BuilderKind builder, TreeStats* stats = nullptr) {
+  BuildOptions o;
+  o.builder = builder;
+  const PrimInfo prims = make_prim_info(scene);
+  const BuildTree tree = build_tree(prims, o);
+  if (stats) *stats = compute_tree_stats(tree, prims);
+  return flatten(tree, prims, scene);
+}
+
+// "" when every node box is exactly the union of its children (leaves: of
+// their triangles), every leaf triangle holds the scene's current vertices,
+// and the leaves cover every triangle once; else the first violation.
+std::string check_flat(const FlatBvh& bvh, const Scene& scene) {
+  if (bvh.empty()) return "";
+  std::vector<int> covered(bvh.triangles.size(), 0);
+  std::string err;
+  auto box_of = [](const BinaryNode& n) { return AABB(n.min, n.max); };
+  auto walk = [&](auto&& self, uint32_t i, int depth) -> void {
+    if (!err.empty()) return;
+    if (i >= bvh.nodes.size() || depth > kMaxBuildDepth) {
+      err = "bad node index or depth";
+      return;
+    }
+    const BinaryNode& n = bvh.nodes[i];
+    AABB u;
+    if (n.is_leaf()) {
+      for (uint32_t j = n.index; j < n.index + n.count; ++j) {
+        if (j >= covered.size() || covered[j]++) {
+          err = "leaf range out of range or overlapping";
+          return;
+        }
+        const PrimRef r = bvh.triangles.refs[j];
+        const TriangleMesh& m = scene.meshes[r.geom_id];
+        const Vec3u& t = m.triangles[r.prim_id];
+        const TriangleVerts& v = bvh.triangles.verts[j];
+        const TriangleEdges& e = bvh.triangles.edges[j];
+        if (!(v.v0 == m.positions[t[0]] && v.v1 == m.positions[t[1]] &&
+              v.v2 == m.positions[t[2]]) ||
+            !(e.v0 == v.v0 && e.e1 == v.v1 - v.v0 && e.e2 == v.v2 - v.v0)) {
+          err = "stale triangle data at " + std::to_string(j);
+          return;
+        }
+        AABB tb;
+        tb.extend(v.v0);
+        tb.extend(v.v1);
+        tb.extend(v.v2);
+        if (!box_of(n).contains(tb))
+          err = "leaf box misses a triangle at node " + std::to_string(i);
+        u.extend(tb);
+      }
+    } else {
+      self(self, n.index, depth + 1);
+      self(self, n.index + 1, depth + 1);
+      if (!err.empty()) return;
+      const AABB l = box_of(bvh.nodes[n.index]), r = box_of(bvh.nodes[n.index + 1]);
+      if (!box_of(n).contains(l) || !box_of(n).contains(r))
+        err = "inner box misses a child at node " + std::to_string(i);
+      u = l;
+      u.extend(r);
+    }
+    if (err.empty() && !(u == box_of(n))) err = "box not tight at node " + std::to_string(i);
+  };
+  walk(walk, 0, 1);
+  if (!err.empty()) return err;
+  for (int c : covered)
+    if (c != 1) return "a triangle is in no leaf";
+  return "";
+}
+
+Scene soup_scene(size_t n = 20000) {
+  Scene s;
+  s.add_mesh(test::random_soup(n, 7));
+  return s;
+}
+
+TEST(Refit, SahCostMatchesTreeStatsAfterBuild) {
+  run_with_threads(kThreads, [] {
+    for (BuilderKind b : {BuilderKind::kSweep, BuilderKind::kPresorted, BuilderKind::kBinned,
+                          BuilderKind::kParallel}) {
+      for (int mesh = 0; mesh < 3; ++mesh) {
+        Scene s;
+        if (mesh == 0) s.add_mesh(test::random_soup(5000, 3));
+        if (mesh == 1) s.add_mesh(generate_sphere(5000));
+        if (mesh == 2) s.add_mesh(test::with_invalid_triangles());
+        TreeStats stats;
+        const FlatBvh bvh = build_flat(s, b, &stats);
+        const double flat = flat_sah_cost(bvh);
+        EXPECT_NEAR(flat, stats.sah_cost, 1e-12 * stats.sah_cost)
+            << to_string(b) << " mesh " << mesh;
+        EXPECT_GT(flat, 1.0);
+        // Refit of an unmoved scene: same boxes bit for bit, same cost.
+        FlatBvh refitted = bvh;
+        const RefitResult r = refit(refitted, s);
+        EXPECT_TRUE(r.valid);
+        EXPECT_NEAR(r.sah_cost, stats.sah_cost, 1e-12 * stats.sah_cost);
+        ASSERT_EQ(refitted.nodes.size(), bvh.nodes.size());
+        for (size_t i = 0; i < bvh.nodes.size(); ++i) {
+          EXPECT_EQ(refitted.nodes[i].min, bvh.nodes[i].min) << i;
+          EXPECT_EQ(refitted.nodes[i].max, bvh.nodes[i].max) << i;
+          EXPECT_EQ(refitted.nodes[i].index, bvh.nodes[i].index) << i;
+          EXPECT_EQ(refitted.nodes[i].count, bvh.nodes[i].count) << i;
+        }
+      }
+    }
+  });
+}
+
+TEST(Refit, EmptyAndSingleLeafTrees) {
+  Scene empty;
+  FlatBvh none;
+  EXPECT_TRUE(refit(none, empty).valid);
+  EXPECT_EQ(flat_sah_cost(none), 0.0);
+  Scene one;
+  TriangleMesh m;
+  test::add_triangle(m, {0, 0, 0}, {1, 0, 0}, {0, 1, 0});
+  one.add_mesh(m);
+  FlatBvh bvh = build_flat(one, BuilderKind::kBinned);
+  ASSERT_EQ(bvh.nodes.size(), 1u);
+  one.meshes[0].positions[1] = {5, 0, 0};
+  const RefitResult r = refit(bvh, one);
+  EXPECT_TRUE(r.valid);
+  EXPECT_EQ(r.sah_cost, 1.0);  // one leaf of one triangle, weight 1
+  EXPECT_EQ(bvh.nodes[0].max.x, 5.0f);
+  EXPECT_EQ(check_flat(bvh, one), "");
+}
+
+TEST(Refit, RandomJitterKeepsBoxesTight) {
+  Scene s = soup_scene();
+  FlatBvh bvh = build_flat(s, BuilderKind::kParallel);
+  test::Rng rng(5);
+  for (int frame = 0; frame < 4; ++frame) {
+    for (Vec3f& p : s.meshes[0].positions)
+      p += Vec3f{rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f} * 0.05f;
+    const RefitResult r = run_with_threads(kThreads, [&] { return refit(bvh, s); });
+    EXPECT_TRUE(r.valid);
+    EXPECT_NEAR(r.sah_cost, flat_sah_cost(bvh), 1e-12 * r.sah_cost);
+    ASSERT_EQ(check_flat(bvh, s), "") << "frame " << frame;
+  }
+}
+
+TEST(Refit, LargeMotionKeepsBoxesTight) {
+  Scene s;
+  s.add_mesh(generate_sphere(20000));
+  s.add_mesh(test::random_soup(3000, 9));
+  FlatBvh bvh = build_flat(s, BuilderKind::kBinned);
+  const double cost0 = flat_sah_cost(bvh);
+  // Mesh 0 moves 100 units away and is squashed; mesh 1 is scrambled (every
+  // vertex sent to a random place in a box 10x larger): the tree degrades.
+  for (Vec3f& p : s.meshes[0].positions) p = Vec3f{p.x * 3.0f + 100.0f, p.y * 0.01f, p.z};
+  test::Rng rng(11);
+  for (Vec3f& p : s.meshes[1].positions)
+    p = Vec3f{rng.uniform(), rng.uniform(), rng.uniform()} * 10.0f;
+  const RefitResult r = run_with_threads(kThreads, [&] { return refit(bvh, s); });
+  EXPECT_TRUE(r.valid);
+  EXPECT_EQ(check_flat(bvh, s), "");
+  EXPECT_GT(r.sah_cost, 2.0 * cost0);  // scrambled soup boxes span its whole range
+}
+
+TEST(Refit, DeterministicForAnyThreadCount) {
+  Scene s = soup_scene();
+  const FlatBvh built = build_flat(s, BuilderKind::kParallel);
+  test::Rng rng(3);
+  for (Vec3f& p : s.meshes[0].positions) p = p * 2.0f + Vec3f{rng.uniform(), 0.0f, 0.0f};
+  FlatBvh one = built, two = built;
+  const RefitResult r1 = run_with_threads(1, [&] { return refit(one, s); });
+  const RefitResult r2 = run_with_threads(kThreads, [&] { return refit(two, s); });
+  EXPECT_EQ(r1.sah_cost, r2.sah_cost);  // bit-identical
+  for (size_t i = 0; i < one.nodes.size(); ++i) {
+    ASSERT_EQ(one.nodes[i].min, two.nodes[i].min);
+    ASSERT_EQ(one.nodes[i].max, two.nodes[i].max);
+  }
+}
+
+TEST(Refit, ReportsATriangleThatBecameInvalid) {
+  for (int how = 0; how < 3; ++how) {
+    Scene s = soup_scene(2000);
+    FlatBvh bvh = build_flat(s, BuilderKind::kBinned);
+    TriangleMesh& m = s.meshes[0];
+    const Vec3u t = m.triangles[1234];
+    if (how == 0) m.positions[t[1]] = m.positions[t[0]];  // repeated vertex
+    if (how == 1) m.positions[t[2]] = Vec3f{std::nanf(""), 0.0f, 0.0f};
+    if (how == 2)
+      m.positions[t[2]] = m.positions[t[0]] * 2.0f - m.positions[t[1]];  // collinear-ish
+    const bool expect_valid = m.triangle_valid(1234);
+    EXPECT_EQ(refit(bvh, s).valid, expect_valid) << how;
+    if (how < 2) {
+      EXPECT_FALSE(expect_valid);
+    }
+  }
+}
+
+TEST(Refit, EveryDeformerKeepsBoxesTight) {
+  for (const char* kind : {"twist", "bend", "wave", "pulse", "explode"}) {
+    Scene s;
+    s.add_mesh(generate_sphere(20000));
+    s.animation.frames = 5;
+    s.animation.fps = 8.0f;
+    DeformerSpec d;
+    d.kind = kind;
+    d.amplitude = std::string(kind) == "explode" ? 1.0f : 0.1f;
+    d.angle_deg = 180.0f;
+    s.animation.deformers = {d};
+    run_with_threads(kThreads, [&] {
+      const SceneAnimator animator(s);  // unwelds for explode
+      animator.apply(0, s);
+      FlatBvh bvh = build_flat(s, BuilderKind::kParallel);
+      for (int frame = 1; frame < animator.frames(); ++frame) {
+        animator.apply(frame, s);
+        const RefitResult r = refit(bvh, s);
+        EXPECT_TRUE(r.valid) << kind << " frame " << frame;
+        EXPECT_NEAR(r.sah_cost, flat_sah_cost(bvh), 1e-12 * r.sah_cost);
+        ASSERT_EQ(check_flat(bvh, s), "") << kind << " frame " << frame;
+      }
+    });
+  }
+}
+
+TEST(Refit, OnlyTheNamedTriangleArrayIsRewritten) {
+  Scene s = soup_scene(5000);
+  const FlatBvh built = build_flat(s, BuilderKind::kBinned);
+  for (Vec3f& p : s.meshes[0].positions) p = p * 3.0f + Vec3f{1.0f, 2.0f, 3.0f};
+  FlatBvh both = built, verts = built, edges = built;
+  const RefitResult rb = refit(both, s, RefitTriangles::kBoth);
+  const RefitResult rv = refit(verts, s, RefitTriangles::kVerts);
+  const RefitResult re = refit(edges, s, RefitTriangles::kEdges);
+  ASSERT_EQ(check_flat(both, s), "");
+  EXPECT_EQ(rb.sah_cost, rv.sah_cost);
+  EXPECT_EQ(rb.sah_cost, re.sah_cost);
+  for (size_t i = 0; i < both.nodes.size(); ++i) {
+    ASSERT_EQ(verts.nodes[i].min, both.nodes[i].min);
+    ASSERT_EQ(edges.nodes[i].max, both.nodes[i].max);
+  }
+  for (size_t j = 0; j < both.triangles.size(); ++j) {
+    ASSERT_EQ(verts.triangles.verts[j].v2, both.triangles.verts[j].v2);
+    ASSERT_EQ(verts.triangles.edges[j].e1, built.triangles.edges[j].e1);  // untouched
+    ASSERT_EQ(edges.triangles.edges[j].e2, both.triangles.edges[j].e2);
+    ASSERT_EQ(edges.triangles.verts[j].v1, built.triangles.verts[j].v1);  // untouched
+  }
+}
+
+TEST(Refit, IndexGivesTheSameResult) {
+  Scene s;
+  s.add_mesh(generate_sphere(5000));
+  s.add_mesh(test::random_soup(3000, 4));
+  const FlatBvh built = build_flat(s, BuilderKind::kParallel);
+  const RefitIndex index = make_refit_index(built, s);
+  ASSERT_EQ(index.triangles.size(), built.triangles.size());
+  for (Vec3f& p : s.meshes[0].positions) p = Vec3f{p.x * 2.0f, p.y + p.x, p.z};
+  for (Vec3f& p : s.meshes[1].positions) p = p * 0.5f;
+  FlatBvh with = built, without = built;
+  const RefitResult a =
+      run_with_threads(kThreads, [&] { return refit(with, s, RefitTriangles::kBoth, &index); });
+  const RefitResult b = refit(without, s);
+  EXPECT_EQ(a.sah_cost, b.sah_cost);
+  EXPECT_EQ(check_flat(with, s), "");
+  for (size_t i = 0; i < with.nodes.size(); ++i) {
+    ASSERT_EQ(with.nodes[i].min, without.nodes[i].min);
+    ASSERT_EQ(with.nodes[i].max, without.nodes[i].max);
+  }
+}
+
+TEST(Refit, AllocatesNothing) {
+  Scene s = soup_scene();
+  FlatBvh bvh = build_flat(s, BuilderKind::kParallel);
+  run_with_threads(kThreads, [&] {
+    refit(bvh, s);  // warm-up: worker threads and TBB's task pools exist afterwards
+    for (Vec3f& p : s.meshes[0].positions) p = p * 1.5f;
+    const RefitIndex index = make_refit_index(bvh, s);
+    g_allocations = 0;
+    g_counting = true;
+    const RefitResult r = refit(bvh, s, RefitTriangles::kBoth, &index);
+    g_counting = false;
+    EXPECT_TRUE(r.valid);
+  });
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(check_flat(bvh, s), "");
+}
+
+}  // namespace
+}  // namespace hprt
