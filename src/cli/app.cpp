@@ -26,6 +26,8 @@ int run(int argc, char** argv) {
   add_trace_command(app, state);
   add_render_command(app, state);
   add_validate_command(app, state);
+  add_bench_command(app, state);
+  add_bench_frames_command(*app.get_subcommand("bench"), state);
   try {
     app.parse(argc, argv);
   } catch (const CLI::CallForHelp& e) {

@@ -20,6 +20,8 @@ void add_render_command(CLI::App& app, CommandState& state);
 void add_validate_command(CLI::App& app, CommandState& state);  // "validate" + its two below
 void add_validate_rays_command(CLI::App& validate, CommandState& state);
 void add_validate_image_command(CLI::App& validate, CommandState& state);
+void add_bench_command(CLI::App& app, CommandState& state);  // "bench" build|trace|frontier
+void add_bench_frames_command(CLI::App& bench, CommandState& state);  // "bench frames"
 
 // --backend, --threads and every backend option (--builder, --bins,
 // --leaf-size, --isect, --quality, --robust, --update, --adaptive-factor).

@@ -1,0 +1,29 @@
+// Summary statistics of repeated timings.
+#include "bench/bench_timing.h"
+
+#include <algorithm>
+#include <cstdio>
+
+namespace hprt::bench {
+
+TimingStats summarize_ms(std::vector<double> samples_ms) {
+  TimingStats t;
+  t.repetitions = int(samples_ms.size());
+  t.samples_ms = samples_ms;
+  if (samples_ms.empty()) return t;
+  std::sort(samples_ms.begin(), samples_ms.end());
+  const size_t n = samples_ms.size();
+  t.median_ms = n % 2 ? samples_ms[n / 2] : 0.5 * (samples_ms[n / 2 - 1] + samples_ms[n / 2]);
+  t.min_ms = samples_ms.front();
+  t.max_ms = samples_ms.back();
+  return t;
+}
+
+std::string format_median_range(const TimingStats& t, int decimals) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "%.*f (%.*f–%.*f)", decimals, t.median_ms, decimals, t.min_ms,
+                decimals, t.max_ms);
+  return buf;
+}
+
+}  // namespace hprt::bench
