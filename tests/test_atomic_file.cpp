@@ -17,8 +17,7 @@ TEST(AtomicFile, CommitRenamesAndLeavesNoTemporary) {
   const char data[] = "hello";
   hprt::write_file_atomic(target, data, 5);
   EXPECT_EQ(fs::file_size(target), 5u);
-  for (const auto& e : fs::directory_iterator(dir))
-    EXPECT_EQ(e.path().filename(), "out.bin");
+  for (const auto& e : fs::directory_iterator(dir)) EXPECT_EQ(e.path().filename(), "out.bin");
   fs::remove_all(dir);
 }
 

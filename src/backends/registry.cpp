@@ -12,8 +12,8 @@ std::unique_ptr<Intersector> make_intersector(std::string_view backend,
                                               const BackendOptions& options) {
   if (backend == "bvh") return make_bvh_intersector(options);
   if (backend == "embree") return make_embree_intersector(options);
-  throw InputError("--backend", "unknown backend '" + std::string(backend) +
-                                    "' (expected bvh or embree)");
+  throw InputError("--backend",
+                   "unknown backend '" + std::string(backend) + "' (expected bvh or embree)");
 }
 
 }  // namespace hprt

@@ -4,10 +4,14 @@ namespace hprt {
 
 std::string_view to_string(BuilderKind k) {
   switch (k) {
-    case BuilderKind::kSweep: return "sweep";
-    case BuilderKind::kPresorted: return "presorted";
-    case BuilderKind::kBinned: return "binned";
-    case BuilderKind::kParallel: return "parallel";
+    case BuilderKind::kSweep:
+      return "sweep";
+    case BuilderKind::kPresorted:
+      return "presorted";
+    case BuilderKind::kBinned:
+      return "binned";
+    case BuilderKind::kParallel:
+      return "parallel";
   }
   return "?";
 }

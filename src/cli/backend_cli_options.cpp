@@ -48,7 +48,7 @@ BackendOptions finish_backend_options(const BackendCliOptions& o) {
   r.triangle_test = *parse_triangle_test(o.isect);
   r.embree_quality = o.quality;
   r.embree_robust = o.robust == "on";
-  r.update = o.update == "rebuild"  ? UpdateStrategy::kRebuild
+  r.update = o.update == "rebuild" ? UpdateStrategy::kRebuild
              : o.update == "refit" ? UpdateStrategy::kRefit
                                    : UpdateStrategy::kAdaptive;
   return r;

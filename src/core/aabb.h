@@ -15,8 +15,14 @@ struct AABB {
   constexpr AABB() = default;
   constexpr AABB(const Vec3f& lo, const Vec3f& hi) : min(lo), max(hi) {}
 
-  constexpr void extend(const Vec3f& p) { min = hprt::min(min, p); max = hprt::max(max, p); }
-  constexpr void extend(const AABB& b) { min = hprt::min(min, b.min); max = hprt::max(max, b.max); }
+  constexpr void extend(const Vec3f& p) {
+    min = hprt::min(min, p);
+    max = hprt::max(max, p);
+  }
+  constexpr void extend(const AABB& b) {
+    min = hprt::min(min, b.min);
+    max = hprt::max(max, b.max);
+  }
   constexpr bool empty() const { return min.x > max.x || min.y > max.y || min.z > max.z; }
   constexpr Vec3f diagonal() const { return max - min; }
   constexpr Vec3f center() const { return (min + max) * 0.5f; }

@@ -64,8 +64,8 @@ AtomicFile::~AtomicFile() {
 void AtomicFile::commit() {
   if (committed_) return;
   if (std::rename(temp_.c_str(), path_.c_str()) != 0)
-    throw InputError(path_, std::string("cannot rename output into place: ") +
-                                std::strerror(errno));
+    throw InputError(path_,
+                     std::string("cannot rename output into place: ") + std::strerror(errno));
   unregister_temp(temp_.c_str());
   committed_ = true;
 }
