@@ -6,7 +6,6 @@
 // case appends "case | command | exit code | message" to FILE (the closing
 // note's list is made that way).
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cmath>
@@ -17,10 +16,10 @@
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
+#include "cli_test_support.h"
 #include "io/image_io.h"
 #include "io/ray_file.h"
 
@@ -29,17 +28,8 @@ namespace fs = std::filesystem;
 namespace hprt {
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using test::CliResult;
+using test::slurp;
 
 void spit(const fs::path& p, const std::string& bytes) {
   std::ofstream(p, std::ios::binary) << bytes;
@@ -65,39 +55,23 @@ std::string binary_ply_with_count(const std::string& count_type, const std::stri
   return s;
 }
 
-class BadInput : public ::testing::Test {
+class BadInput : public test::CliTest {
  protected:
+  BadInput() : CliTest("hprt_bad_input_") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("hprt_bad_input_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    CliTest::SetUp();
     spit(dir_ / "good.ply", std::string(kPlyHead) + kTriangleData);
   }
   void TearDown() override {
     std::error_code ec;
     fs::permissions(dir_ / "ro", fs::perms::owner_all, ec);
-    fs::remove_all(dir_);
+    CliTest::TearDown();
   }
-
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
 
   // Runs `hprt args` in dir_ (so relative names in args are inside it).
   // `prefix` is shell text run before hprt in the same shell (e.g. a ulimit).
-  Result run(const std::string& args, const std::string& prefix = "") const {
-    const fs::path out = dir_.parent_path() / (dir_.filename().string() + ".stdout");
-    const fs::path err = dir_.parent_path() / (dir_.filename().string() + ".stderr");
-    const std::string cmd = "cd '" + dir_.string() + "' && " + prefix + HPRT_BINARY + " " + args +
-                            " >" + out.string() + " 2>" + err.string();
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(out);
-    r.err = slurp(err);
-    fs::remove(out);
-    fs::remove(err);
-    return r;
+  CliResult run(const std::string& args, const std::string& prefix = "") const {
+    return test::run_hprt(args, dir_, dir_, prefix);
   }
 
   std::set<std::string> files() const {
@@ -114,7 +88,7 @@ class BadInput : public ::testing::Test {
                        const std::vector<std::string>& mentions,
                        const std::string& prefix = "") const {
     const std::set<std::string> before = files();
-    const Result r = run(args, prefix);
+    const CliResult r = run(args, prefix);
     log(what, args, r);
     EXPECT_EQ(r.code, 2) << what << ": " << r.err;
     EXPECT_EQ(r.err.rfind("hprt: error: ", 0), 0u) << what << ": " << r.err;
@@ -125,7 +99,7 @@ class BadInput : public ::testing::Test {
     EXPECT_EQ(files(), before) << what << ": output or temporary file left behind";
   }
 
-  static void log(const std::string& what, const std::string& args, const Result& r) {
+  static void log(const std::string& what, const std::string& args, const CliResult& r) {
     const char* log_path = std::getenv("HPRT_BAD_INPUT_LOG");
     if (!log_path) return;
     std::string msg = r.err;
@@ -135,8 +109,6 @@ class BadInput : public ::testing::Test {
     std::ofstream(log_path, std::ios::app)
         << "| " << what << " | `hprt " << args << "` | " << r.code << " | " << msg << " |\n";
   }
-
-  fs::path dir_;
 };
 
 TEST_F(BadInput, PlyHeaderCountsLargerThanTheFile) {
@@ -324,14 +296,14 @@ TEST_F(BadInput, NonFiniteCoordinatesAreDroppedAndCounted) {
        "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n"
        "-1 -1 0\n1 -1 0\n0 1 0\nnan 0 0\n1 0 0\n0 1 0\n0 0 0\n1 inf 0\n0 -inf 1\n"
        "3 0 1 2\n3 3 4 5\n3 6 7 8\n");
-  const Result b = run("build nan.ply --json");
+  const CliResult b = run("build nan.ply --json");
   ASSERT_EQ(b.code, 0) << b.err;
   const auto j = nlohmann::json::parse(b.out);
   EXPECT_EQ(j.at("triangles").get<int>(), 1);
   EXPECT_EQ(j.at("invalid_triangles").get<int>(), 2);
   log("PLY with 2 of 3 triangles non-finite (build)", "build nan.ply --json", b);
 
-  const Result r = run("render nan.ply --width 32 --height 32 -o nan.exr");
+  const CliResult r = run("render nan.ply --width 32 --height 32 -o nan.exr");
   log("PLY with 2 of 3 triangles non-finite (render)", "render nan.ply -o nan.exr", r);
   ASSERT_EQ(r.code, 0) << r.err;
   const Image img = read_image(path("nan.exr"));
@@ -349,7 +321,7 @@ TEST_F(BadInput, NonFiniteCoordinatesAreDroppedAndCounted) {
 TEST_F(BadInput, EmptySceneRendersBackgroundAndMissesEverything) {
   spit(dir_ / "empty.json", R"({"camera": {"width": 40, "height": 30},
       "background": [0.25, 0.5, 0.75], "meshes": []})");
-  const Result r = run("render empty.json -o bg.exr --json");
+  const CliResult r = run("render empty.json -o bg.exr --json");
   log("scene with no meshes (render)", "render empty.json -o bg.exr --json", r);
   ASSERT_EQ(r.code, 0) << r.err;
   const Image img = read_image(path("bg.exr"));
@@ -365,8 +337,8 @@ TEST_F(BadInput, EmptySceneRendersBackgroundAndMissesEverything) {
   spit(dir_ / "nothing.json", R"({"meshes": []})");
   ASSERT_EQ(run("rays good.ply --kind random -n 500 -o r.rays").code, 0);
   for (const std::string backend : {"bvh", "embree"}) {
-    const Result t = run("trace nothing.json --rays r.rays --backend " + backend + " -o " +
-                         backend + ".hits --json");
+    const CliResult t = run("trace nothing.json --rays r.rays --backend " + backend + " -o " +
+                            backend + ".hits --json");
     log("scene with no meshes (trace " + backend + ")",
         "trace nothing.json --rays r.rays --backend " + backend + " --json", t);
     ASSERT_EQ(t.code, 0) << t.err;
@@ -380,7 +352,7 @@ TEST_F(BadInput, EmptySceneRendersBackgroundAndMissesEverything) {
   }
   // Every triangle non-finite: an empty scene too.
   spit(dir_ / "allnan.ply", std::string(kPlyHead) + "nan 0 0\n1 0 0\n0 1 0\n3 0 1 2\n");
-  const Result n = run("render allnan.ply --width 16 --height 16 -o allnan.png");
+  const CliResult n = run("render allnan.ply --width 16 --height 16 -o allnan.png");
   log("mesh whose only triangle is non-finite (render)", "render allnan.ply -o allnan.png", n);
   EXPECT_EQ(n.code, 0) << n.err;
   EXPECT_TRUE(fs::exists(dir_ / "allnan.png"));

@@ -3,7 +3,6 @@
 // Embree rows are there, values are well formed (no timing is asserted), and
 // bad options exit 2 leaving nothing behind.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -15,22 +14,16 @@
 #include <string>
 #include <vector>
 
+#include "cli_test_support.h"
+
 namespace fs = std::filesystem;
 
 namespace hprt {
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using test::CliResult;
+using test::slurp;
+using test::split_csv;
 
 // A CSV file as a header and rows of name -> field (no quoted fields occur
 // in bench output; a quote would fail the test).
@@ -39,24 +32,15 @@ struct Csv {
   std::vector<std::map<std::string, std::string>> rows;
 };
 
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) out.push_back(field);
-  if (!line.empty() && line.back() == ',') out.push_back("");
-  return out;
-}
-
 Csv read_csv(const fs::path& p) {
   Csv c;
   std::istringstream in(slurp(p));
   std::string line;
   EXPECT_TRUE(std::getline(in, line)) << p;
-  c.header = split(line);
+  c.header = split_csv(line);
   while (std::getline(in, line)) {
     EXPECT_EQ(line.find('"'), std::string::npos) << line;
-    const auto f = split(line);
+    const auto f = split_csv(line);
     EXPECT_EQ(f.size(), c.header.size()) << p << ": " << line;
     std::map<std::string, std::string> row;
     for (size_t i = 0; i < f.size() && i < c.header.size(); ++i) row[c.header[i]] = f[i];
@@ -72,32 +56,11 @@ double number(const std::string& s) {
   return v;
 }
 
-class Bench : public ::testing::Test {
+class Bench : public test::CliTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("hprt_bench_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  Result run(const std::string& args) const {
-    const std::string cmd = std::string(HPRT_BINARY) + " " + args + " >" +
-                            (dir_ / "stdout.txt").string() + " 2>" + (dir_ / "stderr.txt").string();
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir_ / "stdout.txt");
-    r.err = slurp(dir_ / "stderr.txt");
-    fs::remove(dir_ / "stdout.txt");
-    fs::remove(dir_ / "stderr.txt");
-    return r;
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  Bench() : CliTest("hprt_bench_") {}
   void generate(const std::string& kind, int tris, const std::string& name) const {
-    const Result r =
+    const CliResult r =
         run("generate " + kind + " --tris " + std::to_string(tris) + " -o " + path(name));
     ASSERT_EQ(r.code, 0) << r.err;
   }
@@ -120,13 +83,11 @@ class Bench : public ::testing::Test {
       for (const auto& col : csv.header) EXPECT_TRUE(row.contains(col)) << col;
     return j;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(Bench, BuildQuickWritesEveryColumnAndEmbreeRows) {
   generate("sphere", 2000, "tiny.ply");
-  const Result r =
+  const CliResult r =
       run("bench build " + path("tiny.ply") + " --quick --threads 2 --out " + path("out"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("| mesh"), std::string::npos) << r.out;  // the Markdown table
@@ -182,8 +143,8 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
       {"generate": {"kind": "sphere", "tris": 1000}, "transform": {"translate": [0, 1, 0]},
        "material": {"diffuse": [0.8, 0.2, 0.2], "reflectivity": 0.5}}
     ]})";
-  const Result r = run("bench trace " + path("scene.json") +
-                       " --quick --threads 2 --rays 2000 --out " + path("out"));
+  const CliResult r = run("bench trace " + path("scene.json") +
+                          " --quick --threads 2 --rays 2000 --out " + path("out"));
   ASSERT_EQ(r.code, 0) << r.err;
   const Csv render = read_csv(dir_ / "out" / "trace_render.csv");
   // 2 focal lengths x 2 resolutions x 2 backends x 2 thread counts.
@@ -221,7 +182,7 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
 
 TEST_F(Bench, FrontierQuickRowsErrorsAndPareto) {
   generate("sphere", 1500, "closed.ply");
-  const Result r =
+  const CliResult r =
       run("bench frontier " + path("closed.ply") +
           " --quick --threads 2 --hard-rays 100 --trace-rays 2000 --out " + path("out"));
   ASSERT_EQ(r.code, 0) << r.err;
@@ -263,7 +224,7 @@ TEST_F(Bench, FrontierQuickRowsErrorsAndPareto) {
 
 TEST_F(Bench, BadOptionsExitTwo) {
   generate("sphere", 200, "tiny.ply");
-  Result r = run("bench build " + path("tiny.ply") + " --quick --repeat 0 --out " + path("out"));
+  CliResult r = run("bench build " + path("tiny.ply") + " --quick --repeat 0 --out " + path("out"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("--repeat"), std::string::npos) << r.err;
   r = run("bench build " + path("missing.ply") + " --quick");

@@ -7,7 +7,6 @@
 
 #include <cstdlib>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <set>
@@ -15,10 +14,15 @@
 #include <string>
 #include <vector>
 
+#include "cli_test_support.h"
+
 namespace fs = std::filesystem;
 
 namespace hprt {
 namespace {
+
+using test::slurp;
+using test::split_csv;
 
 const std::vector<std::string> kColumns = {"case",
                                            "config",
@@ -44,22 +48,6 @@ const std::vector<std::string> kColumns = {"case",
                                            "frame_vs_best_embree"};
 const std::vector<std::string> kConfigs = {"bvh rebuild", "bvh refit", "bvh adaptive",
                                            "embree dynamic refit", "embree dynamic low"};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-std::vector<std::string> split(const std::string& line) {
-  std::vector<std::string> out;
-  std::string field;
-  std::istringstream in(line);
-  while (std::getline(in, field, ',')) out.push_back(field);
-  if (!line.empty() && line.back() == ',') out.push_back("");
-  return out;
-}
 
 int run(const std::string& args, const fs::path& out) {
   const std::string cmd = std::string(HPRT_BINARY) + " " + args + " >" + (out / "stdout").string() +
@@ -92,11 +80,11 @@ TEST_F(BenchFrames, QuickRunWritesEveryColumnAndEmbreeRows) {
   std::istringstream csv(slurp(out / "frames_frames.csv"));
   std::string line;
   ASSERT_TRUE(std::getline(csv, line));
-  EXPECT_EQ(split(line), kColumns);
+  EXPECT_EQ(split_csv(line), kColumns);
   std::set<std::string> seen;
   int rows = 0;
   while (std::getline(csv, line)) {
-    const std::vector<std::string> f = split(line);
+    const std::vector<std::string> f = split_csv(line);
     ASSERT_EQ(f.size(), kColumns.size()) << line;
     std::map<std::string, std::string> row;
     for (size_t i = 0; i < f.size(); ++i) row[kColumns[i]] = f[i];

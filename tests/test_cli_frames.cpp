@@ -4,9 +4,7 @@
 // lines, the still render of an animated scene (frame 0), and bad ranges or
 // output patterns exiting 2 with no file left behind.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -14,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_test_support.h"
 #include "validators/image_diff.h"
 
 namespace fs = std::filesystem;
@@ -21,17 +20,8 @@ namespace fs = std::filesystem;
 namespace hprt {
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
-
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
+using test::CliResult;
+using test::slurp;
 
 // Fast, large motion per frame (fps 4) so refit degrades and adaptive rebuilds.
 constexpr const char* kScene = R"({
@@ -54,42 +44,22 @@ constexpr const char* kScene = R"({
                               {"mesh": 0, "kind": "wave", "amplitude": 0.05, "wavelength": 1}]}
 })";
 
-class CliFrames : public ::testing::Test {
+class CliFrames : public test::CliTest {
  protected:
+  CliFrames() : CliTest("hprt_cli_frames_") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("hprt_cli_frames_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    CliTest::SetUp();
     std::ofstream(dir_ / "scene.json") << kScene;
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  Result run(const std::string& args) const {
-    const std::string cmd = std::string(HPRT_BINARY) + " " + args + " >" +
-                            (dir_ / "stdout.txt").string() + " 2>" + (dir_ / "stderr.txt").string();
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir_ / "stdout.txt");
-    r.err = slurp(dir_ / "stderr.txt");
-    fs::remove(dir_ / "stdout.txt");
-    fs::remove(dir_ / "stderr.txt");
-    return r;
-  }
-  Result render(const std::string& options) const {
+  CliResult render(const std::string& options) const {
     return run("render " + path("scene.json") + " --threads 2 " + options);
   }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
   size_t output_files() const {
     size_t n = 0;
     for (const auto& e : fs::directory_iterator(dir_))
       if (e.path().filename() != "scene.json") ++n;
     return n;
   }
-
-  fs::path dir_;
 };
 
 const std::vector<std::string> kConfigs = {
@@ -136,7 +106,7 @@ TEST_F(CliFrames, FrameAfterAnimationEqualsFrameFromScratch) {
 }
 
 TEST_F(CliFrames, JsonLinePerFrameWithAllFields) {
-  const Result r = render("--update adaptive --frames 1:5 -o " + path("f_%03d.png") + " --json");
+  const CliResult r = render("--update adaptive --frames 1:5 -o " + path("f_%03d.png") + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
   std::istringstream lines(r.out);
   std::string line;
@@ -165,7 +135,7 @@ TEST_F(CliFrames, JsonLinePerFrameWithAllFields) {
   EXPECT_NE(r.err.find("4 frames"), std::string::npos) << r.err;  // the summary
   EXPECT_NE(r.err.find("median"), std::string::npos) << r.err;
 
-  const Result e = render("--backend embree --frames 0:2 -o " + path("e_%d.png") + " --json");
+  const CliResult e = render("--backend embree --frames 0:2 -o " + path("e_%d.png") + " --json");
   ASSERT_EQ(e.code, 0) << e.err;
   const auto j = nlohmann::json::parse(e.out.substr(0, e.out.find('\n')));
   EXPECT_TRUE(j["sah_cost"].is_null());
@@ -185,7 +155,7 @@ TEST_F(CliFrames, BadRangesAndPatternsExit2AndLeaveNoFile) {
         "--frames -1:2 -o " + path("x_%d.png"), "--frames a:b -o " + path("x_%d.png"),
         "--frames 0:2 -o " + path("x.png"), "--frames 0:2 -o " + path("x_%d_%d.png"),
         "--frames 0:2 -o " + path("x_%s.png"), "--frames 0:2 -o " + path("nodir/x_%d.png")}) {
-    const Result r = render(bad);
+    const CliResult r = render(bad);
     EXPECT_EQ(r.code, 2) << bad << "\n" << r.err;
     EXPECT_NE(r.err.find("hprt: error:"), std::string::npos) << bad << "\n" << r.err;
     EXPECT_EQ(output_files(), 0u) << bad;

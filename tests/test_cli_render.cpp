@@ -2,15 +2,13 @@
 // fields, thread-count independence, exit codes 0/1/2, and bad input leaving
 // no output file behind.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 
-#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 
+#include "cli_test_support.h"
 #include "io/image_io.h"
 
 namespace fs = std::filesystem;
@@ -18,26 +16,14 @@ namespace fs = std::filesystem;
 namespace hprt {
 namespace {
 
-struct Result {
-  int code = -1;
-  std::string out, err;
-};
+using test::CliResult;
+using test::slurp;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream f(p, std::ios::binary);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  return ss.str();
-}
-
-class CliRender : public ::testing::Test {
+class CliRender : public test::CliTest {
  protected:
+  CliRender() : CliTest("hprt_cli_render_") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("hprt_cli_render_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    CliTest::SetUp();
     std::ofstream(dir_ / "scene.json") << R"({
       "camera": {"position": [0, 1.5, 4], "look_at": [0, 0.3, 0], "focal_length_mm": 20,
                  "width": 64, "height": 48},
@@ -49,21 +35,6 @@ class CliRender : public ::testing::Test {
          "material": {"diffuse": [0.8, 0.2, 0.2], "specular": [0.5, 0.5, 0.5]}}
       ]})";
   }
-  void TearDown() override { fs::remove_all(dir_); }
-
-  Result run(const std::string& args) const {
-    const std::string cmd = std::string(HPRT_BINARY) + " " + args + " >" +
-                            (dir_ / "stdout.txt").string() + " 2>" + (dir_ / "stderr.txt").string();
-    const int status = std::system(cmd.c_str());
-    Result r;
-    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-    r.out = slurp(dir_ / "stdout.txt");
-    r.err = slurp(dir_ / "stderr.txt");
-    fs::remove(dir_ / "stdout.txt");
-    fs::remove(dir_ / "stderr.txt");
-    return r;
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
   // Files in the directory other than the scene: no stray temporaries.
   size_t output_files() const {
     size_t n = 0;
@@ -71,13 +42,11 @@ class CliRender : public ::testing::Test {
       if (e.path().filename() != "scene.json") ++n;
     return n;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(CliRender, WritesPngAndJson) {
-  const Result r = run("render " + path("scene.json") + " --backend embree --threads 2 -o " +
-                       path("a.png") + " --json");
+  const CliResult r = run("render " + path("scene.json") + " --backend embree --threads 2 -o " +
+                          path("a.png") + " --json");
   ASSERT_EQ(r.code, 0) << r.err;
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["backend"], "embree");
@@ -97,7 +66,7 @@ TEST_F(CliRender, WritesPngAndJson) {
 }
 
 TEST_F(CliRender, OverridesAndExr) {
-  const Result r =
+  const CliResult r =
       run("render " + path("scene.json") + " --backend embree --width 40 --height 30 " +
           "--focal 35 -o " + path("a.exr"));
   ASSERT_EQ(r.code, 0) << r.err;
@@ -121,7 +90,7 @@ TEST_F(CliRender, ThreadCountDoesNotChangeImageAndValidatePasses) {
           .code,
       0);
   EXPECT_EQ(slurp(dir_ / "t1.png"), slurp(dir_ / "t2.png"));
-  const Result v = run("validate image " + path("t1.png") + " " + path("t2.png") + " --json");
+  const CliResult v = run("validate image " + path("t1.png") + " " + path("t2.png") + " --json");
   ASSERT_EQ(v.code, 0) << v.err;
   const auto j = nlohmann::json::parse(v.out);
   EXPECT_TRUE(j["psnr_db"].is_null());  // infinite
@@ -137,8 +106,8 @@ TEST_F(CliRender, ValidateImageFailsOnDifferentImages) {
   ASSERT_EQ(
       run("render " + path("scene.json") + " --backend embree --focal 24 -o " + path("b.png")).code,
       0);
-  const Result v = run("validate image " + path("a.png") + " " + path("b.png") + " --json --diff " +
-                       path("d.png"));
+  const CliResult v = run("validate image " + path("a.png") + " " + path("b.png") +
+                          " --json --diff " + path("d.png"));
   EXPECT_EQ(v.code, 1) << v.err;
   const auto j = nlohmann::json::parse(v.out);
   EXPECT_EQ(j["pass"], false);
@@ -157,7 +126,7 @@ TEST_F(CliRender, BadInputExitsTwoAndLeavesNothing) {
   const std::string scene = path("scene.json");
   EXPECT_EQ(run("render " + scene + " --backend embree --width 0 -o " + path("a.png")).code, 2);
   EXPECT_EQ(run("render " + scene + " --backend embree -o " + path("missing/a.png")).code, 2);
-  const Result ext = run("render " + scene + " --backend embree -o " + path("a.notanimage"));
+  const CliResult ext = run("render " + scene + " --backend embree -o " + path("a.notanimage"));
   EXPECT_EQ(ext.code, 2);
   EXPECT_NE(ext.err.find("hprt: error:"), std::string::npos) << ext.err;
   EXPECT_EQ(run("render " + path("nosuchscene.json") + " -o " + path("a.png")).code, 2);
@@ -165,7 +134,7 @@ TEST_F(CliRender, BadInputExitsTwoAndLeavesNothing) {
   // validate image: different sizes and unreadable files are input errors.
   ASSERT_EQ(run("render " + scene + " --backend embree -o " + path("a.png")).code, 0);
   ASSERT_EQ(run("render " + scene + " --backend embree --width 32 -o " + path("b.png")).code, 0);
-  const Result size = run("validate image " + path("a.png") + " " + path("b.png"));
+  const CliResult size = run("validate image " + path("a.png") + " " + path("b.png"));
   EXPECT_EQ(size.code, 2);
   EXPECT_NE(size.err.find("64x48 vs 32x24"), std::string::npos) << size.err;
   EXPECT_EQ(run("validate image " + path("a.png") + " " + path("nothere.png")).code, 2);

@@ -4,33 +4,20 @@
 
 #include <nlohmann/json.hpp>
 
-#include <array>
-#include <cstdio>
 #include <filesystem>
 #include <string>
+
+#include "cli_test_support.h"
 
 namespace {
 
 namespace fs = std::filesystem;
 
-struct Result {
-  int code;
-  std::string out;
-};
-
-Result run(const std::string& args) {
-  const std::string cmd = std::string(HPRT_BINARY) + " " + args + " 2>/dev/null";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf{};
-  size_t n;
-  while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) out.append(buf.data(), n);
-  const int status = pclose(p);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using hprt::test::CliResult;
 
 class CmdBuild : public ::testing::Test {
  protected:
+  static CliResult run(const std::string& args) { return hprt::test::run_hprt(args, dir_); }
   static void SetUpTestSuite() {
     dir_ = fs::temp_directory_path() / ("hprt_cmd_build_" + std::to_string(::getpid()));
     fs::create_directories(dir_);
@@ -43,7 +30,7 @@ class CmdBuild : public ::testing::Test {
 };
 
 TEST_F(CmdBuild, JsonReportsTheTree) {
-  const Result r = run("build " + mesh_ + " --builder binned --leaf-size 2 --threads 1 --json");
+  const CliResult r = run("build " + mesh_ + " --builder binned --leaf-size 2 --threads 1 --json");
   ASSERT_EQ(r.code, 0);
   const auto j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["builder"], "binned");
@@ -64,8 +51,8 @@ TEST_F(CmdBuild, JsonReportsTheTree) {
 }
 
 TEST_F(CmdBuild, ParallelTreeIndependentOfThreads) {
-  const Result a = run("build " + mesh_ + " --threads 1 --json");
-  const Result b = run("build " + mesh_ + " --threads 2 --repeat 3 --json");
+  const CliResult a = run("build " + mesh_ + " --threads 1 --json");
+  const CliResult b = run("build " + mesh_ + " --threads 2 --repeat 3 --json");
   ASSERT_EQ(a.code, 0);
   ASSERT_EQ(b.code, 0);
   const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);

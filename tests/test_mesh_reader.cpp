@@ -10,6 +10,7 @@
 #include <fstream>
 #include <string>
 
+#include "cli_test_support.h"
 #include "core/error.h"
 #include "io/file_bytes.h"
 
@@ -18,6 +19,8 @@ using hprt::InputError;
 using hprt::TriangleMesh;
 
 namespace {
+
+using hprt::test::slurp;
 
 struct TempDir {
   fs::path dir;
@@ -38,11 +41,6 @@ struct TempDir {
     return path(name);
   }
 };
-
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 // Expects load_mesh(path) to throw InputError "path: ...part...".
 void expect_error(const std::string& path, const std::string& part) {

@@ -8,10 +8,10 @@
 #include <cmath>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <limits>
 #include <string>
 
+#include "cli_test_support.h"
 #include "core/error.h"
 #include "io/mesh_reader.h"
 
@@ -23,6 +23,8 @@ using hprt::Vec3u;
 
 namespace {
 
+using hprt::test::slurp;
+
 struct TempDir {
   fs::path dir;
   TempDir() : dir(fs::temp_directory_path() / ("hprt_ply_writer_" + std::to_string(::getpid()))) {
@@ -31,11 +33,6 @@ struct TempDir {
   ~TempDir() { fs::remove_all(dir); }
   std::string path(const std::string& name) const { return (dir / name).string(); }
 };
-
-std::string slurp(const std::string& p) {
-  std::ifstream in(p, std::ios::binary);
-  return std::string(std::istreambuf_iterator<char>(in), {});
-}
 
 // A small grid with awkward floats (non-representable decimals, tiny, huge, NaN).
 TriangleMesh grid(bool with_normals) {

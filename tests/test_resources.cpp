@@ -11,11 +11,11 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <string>
 #include <vector>
+
+#include "cli_test_support.h"
 
 extern char** environ;
 
@@ -57,24 +57,13 @@ ProcessRun run_hprt(const std::vector<std::string>& args, const fs::path& dir) {
   if (wait4(pid, &status, 0, &ru) != pid) return r;
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
   r.max_rss_bytes = ru.ru_maxrss * 1024L;
-  std::ifstream f(out);
-  std::stringstream ss;
-  ss << f.rdbuf();
-  r.out = ss.str();
+  r.out = test::slurp(out);
   return r;
 }
 
-class Resources : public ::testing::Test {
+class Resources : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("hprt_resources_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path dir_;
+  Resources() : TempDirTest("hprt_resources_") {}
 };
 
 TEST_F(Resources, BuildOfOneMillionTrianglesStaysInBound) {

@@ -13,6 +13,7 @@
 
 #include "anim/frame_pattern.h"
 #include "anim/scene_animator.h"
+#include "cli_test_support.h"
 #include "core/error.h"
 #include "core/mesh_generators.h"
 #include "core/parallel.h"
@@ -143,14 +144,11 @@ TEST(SceneAnimator, DeformerFramesAllocateNothing) {
   });
 }
 
-class SceneAnimatorFiles : public ::testing::Test {
+class SceneAnimatorFiles : public test::TempDirTest {
  protected:
+  SceneAnimatorFiles() : TempDirTest("hprt_anim_") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("hprt_anim_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    TempDirTest::SetUp();
     base_ = generate_sphere(500);
     write_ply(base_, path("mesh.ply"));
     for (int k = 0; k < 3; ++k) {  // frames 10, 11, 12: the sphere scaled by 1 + k/10
@@ -159,8 +157,6 @@ class SceneAnimatorFiles : public ::testing::Test {
       write_ply(f, format_frame_path(path("seq_%03d.ply"), 10 + k));
     }
   }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
   void write_scene(int frames) const {
     std::ofstream(path("scene.json"))
         << R"({"meshes": [{"file": "mesh.ply", "transform": {"translate": [0, 5, 0]}}],
@@ -168,7 +164,6 @@ class SceneAnimatorFiles : public ::testing::Test {
         << frames << R"(, "sequences": [{"mesh": 0, "pattern": "seq_%03d.ply", "first": 10}]}})";
   }
 
-  fs::path dir_;
   TriangleMesh base_;
 };
 

@@ -10,10 +10,11 @@
 
 #include <chrono>
 #include <filesystem>
-#include <fstream>
 #include <string>
 #include <thread>
 #include <vector>
+
+#include "cli_test_support.h"
 
 extern char** environ;
 
@@ -22,16 +23,9 @@ namespace fs = std::filesystem;
 namespace hprt {
 namespace {
 
-class Signal : public ::testing::Test {
+class Signal : public test::TempDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           (std::string("hprt_signal_") +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  Signal() : TempDirTest("hprt_signal_") {}
 
   // Starts `hprt render` at 8192x4096 (hundreds of millions of rays: far
   // longer than the wait below), sends `sig` once it has run for a second,
@@ -89,8 +83,6 @@ class Signal : public ::testing::Test {
       if (e.path().filename() != "stderr.txt") names.push_back(e.path().filename().string());
     return names;
   }
-
-  fs::path dir_;
 };
 
 TEST_F(Signal, SigintDuringRenderLeavesNoFile) {
