@@ -132,17 +132,13 @@ size_t count_wrong(const HardSet& set, const Intersector& b, const RayDiffOption
   for (size_t i = 0; i < set.rays.size(); ++i) {
     const ArbiterAnswer& ans = set.answers[i];
     const Hit& h = hits[i];
-    const PrimRef p{h.geom_id, h.prim_id};
-    const bool known =
-        !h.hit() || std::any_of(ans.candidates.begin(), ans.candidates.end(),
-                                [&](const CandidateResult& c) { return c.prim == p; });
     bool right;
-    if (known) {
-      right = closest_hit_right(ans, set.rays[i], h, opts);
+    if (h.hit()) {
+      ArbiterAnswer with_hit = ans;
+      add_candidate(*set.scene, set.rays[i], PrimRef{h.geom_id, h.prim_id}, with_hit);
+      right = closest_hit_right(with_hit, set.rays[i], h, opts);
     } else {
-      std::vector<PrimRef> cand{p};
-      for (const CandidateResult& c : ans.candidates) cand.push_back(c.prim);
-      right = closest_hit_right(arbitrate(*set.scene, set.rays[i], cand), set.rays[i], h, opts);
+      right = closest_hit_right(ans, set.rays[i], h, opts);
     }
     if (!right) ++wrong;
   }
@@ -224,8 +220,7 @@ BenchReport run_frontier_bench(const FrontierBenchConfig& config) {
         tbb::parallel_for(tbb::blocked_range<size_t>(0, h.rays.size(), 8),
                           [&](const tbb::blocked_range<size_t>& r) {
                             for (size_t i = r.begin(); i != r.end(); ++i)
-                              h.answers[i] =
-                                  arbitrate_brute_force(*s, h.rays[i], diff_opts.edge_rel_tol);
+                              h.answers[i] = arbitrate_scene(*s, h.rays[i], diff_opts);
                           });
         sets.push_back(std::move(h));
       }

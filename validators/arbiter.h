@@ -37,6 +37,9 @@ struct CandidateResult {
   // world units, with the ray's line at (0, 0) (double: for tolerance checks
   // such as whether the triangles near the line cover all around it).
   double proj[3][2] = {};
+  // Set by the ray diff (mark_surrounded): a hit near its border whose
+  // neighbours at the same t cover all around the ray's line.
+  bool surrounded = false;
 };
 
 struct ArbiterAnswer {

@@ -79,13 +79,21 @@ bool sure_hit(const ArbiterAnswer& ans, size_t i, const Ray& ray, const RayDiffO
   if (!c.hit) return false;
   if (!(c.t >= double(ray.tnear) + ctol(c, o) && c.t <= double(ray.tfar) - ctol(c, o)))
     return false;
-  const double r = o.edge_rel_tol * c.scale;
-  if (c.margin >= r) return true;
+  return c.margin >= o.edge_rel_tol * c.scale || c.surrounded;
+}
+
+// Sets `surrounded` on each hit within the edge tolerance r of its border.
+void mark_surrounded(ArbiterAnswer& ans, const RayDiffOptions& o) {
   std::vector<const CandidateResult*> group;
-  for (const CandidateResult& d : ans.candidates)
-    if (d.valid && std::isfinite(d.t) && d.margin >= -r && std::fabs(d.t - c.t) <= ctol(c, o))
-      group.push_back(&d);
-  return covers_around_line(group, r);
+  for (CandidateResult& c : ans.candidates) {
+    const double r = o.edge_rel_tol * c.scale;
+    if (!c.hit || c.margin >= r) continue;
+    group.clear();
+    for (const CandidateResult& d : ans.candidates)
+      if (d.valid && std::isfinite(d.t) && d.margin >= -r && std::fabs(d.t - c.t) <= ctol(c, o))
+        group.push_back(&d);
+    c.surrounded = covers_around_line(group, r);
+  }
 }
 
 void add_unique(std::vector<PrimRef>& v, PrimRef p) {
@@ -94,14 +102,27 @@ void add_unique(std::vector<PrimRef>& v, PrimRef p) {
 
 PrimRef ref_of(const Hit& h) { return {h.geom_id, h.prim_id}; }
 
+// Whether some exact hit lies within the edge tolerance of its triangle's
+// border: only then does sure_hit() need the neighbours the line just misses.
+bool needs_neighbours(const ArbiterAnswer& ans, const RayDiffOptions& o) {
+  for (const CandidateResult& c : ans.candidates)
+    if (c.hit && c.margin < o.edge_rel_tol * c.scale) return true;
+  return false;
+}
+
 ArbiterAnswer arbitrate_dispute(const Scene& scene, const Ray& ray, const Hit* a, const Hit* b,
                                 bool brute_force, const RayDiffOptions& o) {
-  std::vector<PrimRef> cand;
-  if (a && a->hit()) add_unique(cand, ref_of(*a));
-  if (b && b->hit()) add_unique(cand, ref_of(*b));
-  if (brute_force)
-    for (PrimRef p : line_candidates(scene, ray, o.edge_rel_tol)) add_unique(cand, p);
-  return arbitrate(scene, ray, cand);
+  std::vector<PrimRef> given;
+  if (a && a->hit()) add_unique(given, ref_of(*a));
+  if (b && b->hit()) add_unique(given, ref_of(*b));
+  if (!brute_force) {
+    ArbiterAnswer ans = arbitrate(scene, ray, given);
+    mark_surrounded(ans, o);
+    return ans;
+  }
+  ArbiterAnswer ans = arbitrate_scene(scene, ray, o);
+  for (PrimRef p : given) add_candidate(scene, ray, p, ans);
+  return ans;
 }
 
 void tally(RayDiffResult& r) {
@@ -147,6 +168,28 @@ double max_of(const std::vector<double>& v) {
 }
 
 }  // namespace
+
+ArbiterAnswer arbitrate_scene(const Scene& scene, const Ray& ray, const RayDiffOptions& o) {
+  ArbiterAnswer ans = arbitrate_brute_force(scene, ray);
+  if (!needs_neighbours(ans, o)) return ans;
+  // Coverage is sampled at r / 2 from the line (covers_around_line), so the
+  // neighbours within a little more than that are enough; once marked, the
+  // ones the line misses are dropped (there may be hundreds at 1e6).
+  ans = arbitrate_brute_force(scene, ray, 0.5001 * o.edge_rel_tol);
+  mark_surrounded(ans, o);
+  std::erase_if(ans.candidates, [](const CandidateResult& c) { return !c.hit; });
+  ans.candidates.shrink_to_fit();
+  return ans;
+}
+
+void add_candidate(const Scene& scene, const Ray& ray, PrimRef p, ArbiterAnswer& ans) {
+  if (std::any_of(ans.candidates.begin(), ans.candidates.end(),
+                  [&](const CandidateResult& c) { return c.prim == p; }))
+    return;
+  const PrimRef one[] = {p};
+  const ArbiterAnswer a = arbitrate(scene, ray, one);
+  ans.candidates.push_back(a.candidates.front());
+}
 
 double rel_t_error(double t, double reference) {
   return std::fabs(t - reference) / std::max(std::fabs(reference), kTinyT);

@@ -49,13 +49,26 @@ struct RayDiffResult {
 
 double rel_t_error(double t, double reference);
 
+// The exact answer over every triangle of the scene the ray's line may cross;
+// where a hit lies within the edge tolerance of its border, also over the
+// neighbours the line misses by less than that (sure_hit() asks whether the
+// triangles at that t cover all around the ray).
+ArbiterAnswer arbitrate_scene(const Scene& scene, const Ray& ray, const RayDiffOptions& opts);
+
+// Adds the exact result for triangle `p` to `ans` unless it is there already
+// (a backend's hit on a triangle the exact line just misses). `p` must not
+// be a closer exact hit than ans's (it is not, when ans comes from
+// arbitrate_scene: every exact hit is among its candidates).
+void add_candidate(const Scene& scene, const Ray& ray, PrimRef p, ArbiterAnswer& ans);
+
 // Whether one backend's answer is right for `ray` given the arbiter's exact
 // answer over a candidate set that contains the backend's primitive:
 // a hit must be on a candidate hit (within edge tolerance) at the exact t
 // (within t_rel_tol) with no clearly closer sure hit; a miss is right when no
 // candidate is surely hit (well inside the interval, and inside its triangle
-// by more than the edge tolerance or hit at the same t by a second triangle:
-// a shared edge or vertex, where a miss is a leak).
+// by more than the edge tolerance, or near its border where the triangles at
+// that t cover all around the ray: a crossing through a shared edge or
+// vertex, where a miss is a leak; a silhouette is not).
 bool closest_hit_right(const ArbiterAnswer& ans, const Ray& ray, const Hit& hit,
                        const RayDiffOptions& opts, double* rel_err = nullptr);
 bool occlusion_right(const ArbiterAnswer& ans, const Ray& ray, bool occluded,
