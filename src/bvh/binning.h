@@ -13,6 +13,7 @@
 #include <limits>
 #include <vector>
 
+#include "bvh/box_ref.h"
 #include "bvh/build_options.h"
 #include "bvh/sah.h"
 #include "core/aabb.h"
@@ -26,6 +27,8 @@ struct BinMapping {
   float cmin[3] = {0, 0, 0};
   float k[3] = {0, 0, 0};
   bool usable[3] = {false, false, false};
+  __m128 vcmin, vk;  // cmin and k as vectors (lane 3: 0)
+  __m128 vlast;      // bins - 1 in every lane
 
   BinMapping(const AABB& centroid_bounds, int bin_count) : bins(bin_count) {
     constexpr float kEps = 1e-6f;
@@ -37,11 +40,20 @@ struct BinMapping {
       usable[a] = extent > 0.0f && std::isfinite(scale) && scale > 0.0f;
       k[a] = usable[a] ? scale : 0.0f;
     }
+    vcmin = _mm_setr_ps(cmin[0], cmin[1], cmin[2], 0.0f);
+    vk = _mm_setr_ps(k[0], k[1], k[2], 0.0f);
+    vlast = _mm_set1_ps(static_cast<float>(bins - 1));
   }
   bool any_usable() const { return usable[0] || usable[1] || usable[2]; }
   int bin(float c, int axis) const {
     const int i = static_cast<int>((c - cmin[axis]) * k[axis]);
     return std::min(std::max(i, 0), bins - 1);
+  }
+  // bin() of the three lanes of centre c at once (an unusable axis gives 0).
+  // Clamping before the truncation gives bin()'s result (NaN: max gives 0).
+  __m128i bins_of(__m128 c) const {
+    const __m128 x = _mm_mul_ps(_mm_sub_ps(c, vcmin), vk);
+    return _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), vlast));
   }
 };
 
@@ -68,29 +80,21 @@ struct Bins {
     return {_mm_set1_ps(std::numeric_limits<float>::infinity()),
             _mm_set1_ps(-std::numeric_limits<float>::infinity())};
   }
-  static AABB to_aabb(const Box& b) {
-    alignas(16) float lo[4], hi[4];
-    _mm_store_ps(lo, b.lo);
-    _mm_store_ps(hi, b.hi);
-    return AABB({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
-  }
+  static AABB to_aabb(const Box& b) { return vec_to_aabb(b.lo, b.hi); }
   AABB box(size_t i) const { return to_aabb(boxes[i]); }
-  // An AABB as lo/hi vectors. Both loads stay inside the 24-byte box: lanes
-  // min.xyz and (min.z, max.xyz) shuffled to max.xyz.
-  static Box load_box(const AABB& b) {
-    const __m128 hi = _mm_loadu_ps(&b.min.z);
-    return {_mm_loadu_ps(&b.min.x), _mm_shuffle_ps(hi, hi, _MM_SHUFFLE(3, 3, 2, 1))};
-  }
-  // Adds one primitive (box b, centroid c) to its bin on every usable axis.
-  void add(const BinMapping& m, const AABB& b, const Vec3f& c) {
-    // Both loads stay inside the 24-byte box: lanes min.xyz and (min.z, max.xyz).
-    const __m128 lo = _mm_loadu_ps(&b.min.x);
-    const __m128 hi =
-        _mm_shuffle_ps(_mm_loadu_ps(&b.min.z), _mm_loadu_ps(&b.min.z), _MM_SHUFFLE(3, 3, 2, 1));
+  // Adds one primitive to its bin on every axis (unusable axes: bin 0, never read).
+  void add(const BinMapping& m, const BoxRef& r) {
+    alignas(16) int idx[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(r.center()));
     const int n = bin_count;
-    if (m.usable[0]) extend(m.bin(c.x, 0), lo, hi);
-    if (m.usable[1]) extend(n + m.bin(c.y, 1), lo, hi);
-    if (m.usable[2]) extend(2 * n + m.bin(c.z, 2), lo, hi);
+    extend(idx[0], r.lo, r.hi);
+    extend(n + idx[1], r.lo, r.hi);
+    extend(2 * n + idx[2], r.lo, r.hi);
+  }
+  // The same for a box b whose centre is c (c == b.center()).
+  void add(const BinMapping& m, const AABB& b, const Vec3f& c) {
+    (void)c;
+    add(m, make_box_ref(b, 0));
   }
   void merge(const Bins& o) {
     for (size_t i = 0; i < boxes.size(); ++i) {
@@ -107,6 +111,20 @@ struct Bins {
     ++counts[i];
   }
 };
+
+// Adds refs[0, n) to `bins`, alternate primitives going through `spare`
+// (reset here, merged at the end) so that runs of primitives in the same bin
+// do not each wait for the previous update.
+inline void bin_refs(const BinMapping& m, const BoxRef* refs, size_t n, Bins& bins, Bins& spare) {
+  spare.reset();
+  size_t i = 0;
+  for (; i + 1 < n; i += 2) {
+    bins.add(m, refs[i]);
+    spare.add(m, refs[i + 1]);
+  }
+  if (i < n) bins.add(m, refs[i]);
+  bins.merge(spare);
+}
 
 // The best binned cut: left = bins [0, cut] on `axis`. axis < 0: none found.
 struct BinnedSplit {
@@ -139,7 +157,7 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
       acc_n += cnt[b];
       // An empty bin leaves the suffix box as it was: reuse its area.
       scratch_area[b] =
-          cnt[b] ? Bins::to_aabb(acc).half_area() : (b + 1 < n ? scratch_area[b + 1] : 0.0f);
+          cnt[b] ? vec_half_area(acc.lo, acc.hi) : (b + 1 < n ? scratch_area[b + 1] : 0.0f);
       scratch_count[b] = acc_n;
     }
     Bins::Box left = Bins::empty_box();
@@ -153,7 +171,7 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
       // A run of empty bins prices the same cut as the occupied bin before it
       // (and ties keep the lowest cut), so only cuts after occupied bins count.
       if (cnt[c] == 0) continue;
-      const float cost = sah_split_cost(sah, parent_area, Bins::to_aabb(left).half_area(), left_n,
+      const float cost = sah_split_cost(sah, parent_area, vec_half_area(left.lo, left.hi), left_n,
                                         scratch_area[c + 1], right_n);
       if (cost < best.cost) {
         best.axis = a;
@@ -172,7 +190,7 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
   return best;
 }
 
-// The same result as binning ids[0, n) and calling find_binned_split, bit for
+// The same result as binning refs[0, n) and calling find_binned_split, bit for
 // bit, without touching bins: per axis, sort the primitives by bin and price
 // only the cuts right after an occupied bin (a cut inside a run of empty bins
 // prices the same sets, and ties keep the lowest cut, which is that one).
@@ -180,20 +198,17 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
 inline constexpr size_t kSmallNodeMax = 32;
 inline constexpr int kCountingSortBins = 64;  // counting sort by bin up to this many bins
 
-inline BinnedSplit find_binned_split_small(const AABB* prim_bounds, const Vec3f* centroids,
-                                           const uint32_t* ids, size_t n, const BinMapping& m,
+inline BinnedSplit find_binned_split_small(const BoxRef* refs, size_t n, const BinMapping& m,
                                            const SahParams& sah, float parent_area) {
   static_assert(kSmallNodeMax <= 32, "sort keys keep the local index in 5 bits");
   BinnedSplit best;
-  // One gather per primitive (box as SSE lo/hi, bin per axis); the three axes
-  // then work on these local copies only.
-  Bins::Box box[kSmallNodeMax];
+  // Bin per axis of every primitive; the three axes then work on these.
+  const BoxRef* box = refs;
   uint16_t bin[3][kSmallNodeMax];
   for (size_t i = 0; i < n; ++i) {
-    const uint32_t id = ids[i];
-    box[i] = Bins::load_box(prim_bounds[id]);
-    const Vec3f& c = centroids[id];
-    for (int a = 0; a < 3; ++a) bin[a][i] = static_cast<uint16_t>(m.usable[a] ? m.bin(c[a], a) : 0);
+    alignas(16) int idx[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(refs[i].center()));
+    for (int a = 0; a < 3; ++a) bin[a][i] = static_cast<uint16_t>(idx[a]);
   }
   float right_area[kSmallNodeMax];
   for (int a = 0; a < 3; ++a) {
@@ -218,19 +233,19 @@ inline BinnedSplit find_binned_split_small(const AABB* prim_bounds, const Vec3f*
     // Suffix areas, needed only where a new bin starts (keys[i] begins a bin).
     Bins::Box acc = Bins::empty_box();
     for (size_t i = n - 1; i > 0; --i) {
-      const Bins::Box& b = box[keys[i] & 31];
+      const BoxRef& b = box[keys[i] & 31];
       acc.lo = _mm_min_ps(acc.lo, b.lo);
       acc.hi = _mm_max_ps(acc.hi, b.hi);
-      if ((keys[i] >> 5) != (keys[i - 1] >> 5)) right_area[i] = Bins::to_aabb(acc).half_area();
+      if ((keys[i] >> 5) != (keys[i - 1] >> 5)) right_area[i] = vec_half_area(acc.lo, acc.hi);
     }
     Bins::Box left = Bins::empty_box();
     for (size_t i = 0; i + 1 < n; ++i) {
-      const Bins::Box& b = box[keys[i] & 31];
+      const BoxRef& b = box[keys[i] & 31];
       left.lo = _mm_min_ps(left.lo, b.lo);
       left.hi = _mm_max_ps(left.hi, b.hi);
       const int cut = keys[i] >> 5;
       if ((keys[i + 1] >> 5) == cut) continue;  // not the end of an occupied bin
-      const float cost = sah_split_cost(sah, parent_area, Bins::to_aabb(left).half_area(),
+      const float cost = sah_split_cost(sah, parent_area, vec_half_area(left.lo, left.hi),
                                         static_cast<uint32_t>(i + 1), right_area[i + 1],
                                         static_cast<uint32_t>(n - i - 1));
       if (cost < best.cost) {

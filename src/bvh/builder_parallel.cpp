@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <memory>
-#include <numeric>
 #include <utility>
 
 #include "bvh/binned_subtree.h"
@@ -40,14 +39,14 @@ struct BoundsPair {
 
 class ParallelBuilder {
  public:
-  ParallelBuilder(const PrimInfo& prims, const BuildOptions& o, uint32_t* order, uint32_t* temp)
-      : prims_(prims), o_(o), order_(order), temp_(temp) {}
+  ParallelBuilder(const BuildOptions& o, BoxRef* refs, BoxRef* temp)
+      : o_(o), refs_(refs), temp_(temp) {}
 
   BoundsPair bounds_of(size_t begin, size_t end) const {
     return tbb::parallel_reduce(
         tbb::blocked_range<size_t>(begin, end, kChunk), BoundsPair{},
         [&](const tbb::blocked_range<size_t>& r, BoundsPair acc) {
-          const auto [b, c] = range_bounds(prims_, order_ + r.begin(), r.size());
+          const auto [b, c] = ref_bounds(refs_ + r.begin(), r.size());
           acc.b.extend(b);
           acc.c.extend(c);
           return acc;
@@ -65,13 +64,15 @@ class ParallelBuilder {
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff)) {
       part->subtree.reserve(2 * n - 1);
-      BinnedSubtreeBuilder seq(prims_, o_, order_, temp_);
+      BinnedSubtreeBuilder seq(o_, refs_, temp_);
       seq.build(begin, end, depth, bounds, cbounds, part->subtree);
       part->total = part->subtree.size();
       return part;
     }
     const BinMapping m(cbounds, o_.bins);
     SplitKind kind = decide_before_binning(n, depth, o_.max_leaf_size, m);
+    if (kind == SplitKind::kSah && leaf_before_binning(refs_ + begin, n, bounds.half_area(), o_))
+      kind = SplitKind::kLeaf;
     BinnedSplit split;
     if (kind == SplitKind::kSah) {
       const Bins bins = parallel_bins(begin, end, m);
@@ -125,15 +126,11 @@ class ParallelBuilder {
 
  private:
   Bins parallel_bins(size_t begin, size_t end, const BinMapping& m) const {
-    const AABB* bx = prims_.bounds.data();
-    const Vec3f* cen = prims_.centroids.data();
     return tbb::parallel_reduce(
         tbb::blocked_range<size_t>(begin, end, kChunk), Bins(o_.bins),
         [&](const tbb::blocked_range<size_t>& r, Bins acc) {
-          for (size_t i = r.begin(); i < r.end(); ++i) {
-            const uint32_t id = order_[i];
-            acc.add(m, bx[id], cen[id]);
-          }
+          Bins spare(o_.bins);
+          bin_refs(m, refs_ + r.begin(), r.size(), acc, spare);
           return acc;
         },
         [](Bins x, const Bins& y) {
@@ -142,7 +139,7 @@ class ParallelBuilder {
         });
   }
 
-  // Parallel stable partition of order_[begin, end): per-chunk left counts,
+  // Parallel stable partition of refs_[begin, end): per-chunk left counts,
   // exclusive prefix sums, order-preserving scatter into temp_, copy back.
   size_t parallel_partition(size_t begin, size_t end, const BinMapping& m, int axis, int cut,
                             AABB& lc, AABB& rc) {
@@ -150,11 +147,10 @@ class ParallelBuilder {
     const size_t chunks = (n + kChunk - 1) / kChunk;
     std::vector<size_t> lefts(chunks);
     std::vector<AABB> lcb(chunks), rcb(chunks);
-    const Vec3f* cen = prims_.centroids.data();
     tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
       const size_t b = begin + c * kChunk, e = std::min(end, b + kChunk);
       size_t k = 0;
-      for (size_t i = b; i < e; ++i) k += goes_left(m, axis, cut, cen[order_[i]]) ? 1 : 0;
+      for (size_t i = b; i < e; ++i) k += goes_left(m, axis, cut, refs_[i]) ? 1 : 0;
       lefts[c] = k;
     });
     std::vector<size_t> loff(chunks), roff(chunks);
@@ -168,26 +164,25 @@ class ParallelBuilder {
     }
     tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
       const size_t b = begin + c * kChunk, e = std::min(end, b + kChunk);
-      uint32_t* lw = temp_ + begin + loff[c];
-      uint32_t* rw = temp_ + begin + nl + roff[c];
-      AABB l, r;
+      BoxRef* lw = temp_ + begin + loff[c];
+      BoxRef* rw = temp_ + begin + nl + roff[c];
+      VecBox l, r;
       for (size_t i = b; i < e; ++i) {
-        const uint32_t id = order_[i];
-        const Vec3f& cc = cen[id];
-        if (goes_left(m, axis, cut, cc)) {
-          *lw++ = id;
-          l.extend(cc);
+        const BoxRef& ref = refs_[i];
+        if (goes_left(m, axis, cut, ref)) {
+          *lw++ = ref;
+          l.extend(ref.center());
         } else {
-          *rw++ = id;
-          r.extend(cc);
+          *rw++ = ref;
+          r.extend(ref.center());
         }
       }
-      lcb[c] = l;
-      rcb[c] = r;
+      lcb[c] = l.aabb();
+      rcb[c] = r.aabb();
     });
     tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, kChunk),
                       [&](const tbb::blocked_range<size_t>& r) {
-                        std::copy(temp_ + r.begin(), temp_ + r.end(), order_ + r.begin());
+                        std::copy(temp_ + r.begin(), temp_ + r.end(), refs_ + r.begin());
                       });
     for (size_t c = 0; c < chunks; ++c) {
       lc.extend(lcb[c]);
@@ -196,10 +191,9 @@ class ParallelBuilder {
     return begin + nl;
   }
 
-  const PrimInfo& prims_;
   const BuildOptions& o_;
-  uint32_t* order_;
-  uint32_t* temp_;
+  BoxRef* refs_;
+  BoxRef* temp_;
 };
 
 }  // namespace
@@ -209,18 +203,23 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   BuildTree tree;
   const size_t n = prims.size();
   if (n == 0) return tree;
-  tree.prim_order.resize(n);
-  std::vector<uint32_t> temp(n);
+  const auto refs = std::make_unique_for_overwrite<BoxRef[]>(n);
+  const auto temp = std::make_unique_for_overwrite<BoxRef[]>(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
                     [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i < r.end(); ++i)
-                        tree.prim_order[i] = static_cast<uint32_t>(i);
+                      fill_box_refs(prims, refs.get(), r.begin(), r.end());
                     });
-  ParallelBuilder b(prims, options, tree.prim_order.data(), temp.data());
+  ParallelBuilder b(options, refs.get(), temp.get());
   const BoundsPair root = b.bounds_of(0, n);
   const std::unique_ptr<Part> top = b.build(0, n, 1, root.b, root.c);
   tree.nodes.resize(top->total);
   ParallelBuilder::place(*top, 0, tree.nodes.data());
+  tree.prim_order.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i < r.end(); ++i)
+                        tree.prim_order[i] = refs[i].index();
+                    });
   return tree;
 }
 
