@@ -54,23 +54,36 @@ inline bool goes_left(const BinMapping& m, int axis, int cut, const BoxRef& r) {
   return idx[axis] <= cut;
 }
 
+// Leaf over refs[begin, end): its primitives' indices go to order[begin, end).
+inline BuildNode make_ref_leaf(const AABB& bounds, const BoxRef* refs, uint32_t* order,
+                               size_t begin, size_t end) {
+  for (size_t i = begin; i < end; ++i) order[i] = refs[i].index();
+  BuildNode n;
+  n.bounds = bounds;
+  n.first = static_cast<uint32_t>(begin);
+  n.count = static_cast<uint32_t>(end - begin);
+  return n;
+}
+
 class BinnedSubtreeBuilder {
  public:
-  // refs/temp: the whole reference array and a scratch array of equal size.
-  BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* refs, BoxRef* temp);
+  // refs: two reference arrays of the input's size; a range lives in one of
+  // them (side 0 or 1) and its SAH children in the other. order: the tree's
+  // prim_order, written by the leaves.
+  BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* refs0, BoxRef* refs1, uint32_t* order);
 
-  // Appends the subtree over refs[begin, end) to `out` in canonical preorder,
-  // with `right` links relative to out's start and leaf `first` absolute.
-  void build(size_t begin, size_t end, int depth, const AABB& bounds, const AABB& centroid_bounds,
-             std::vector<BuildNode>& out);
+  // Appends the subtree over refs[side][begin, end) to `out` in canonical
+  // preorder, with `right` links relative to out's start and leaf `first` absolute.
+  void build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
+             const AABB& centroid_bounds, std::vector<BuildNode>& out);
 
  private:
-  void recurse(size_t begin, size_t end, int depth, const AABB& bounds, const AABB& cbounds,
-               size_t base, std::vector<BuildNode>& out);
+  void recurse(size_t begin, size_t end, int side, int depth, const AABB& bounds,
+               const AABB& cbounds, size_t base, std::vector<BuildNode>& out);
 
   const BuildOptions& options_;
-  BoxRef* refs_;
-  BoxRef* temp_;
+  BoxRef* refs_[2];
+  uint32_t* order_;
   Bins bins_, spare_;
   std::vector<float> scratch_area_;
   std::vector<uint32_t> scratch_count_;

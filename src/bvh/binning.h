@@ -67,14 +67,14 @@ struct Bins {
   std::vector<Box> boxes;
   std::vector<uint32_t> counts;
 
+  // Room for n bins per axis, all in use until reset(count) picks fewer.
   explicit Bins(int n = 0) : bin_count(n), boxes(3 * size_t(n)), counts(3 * size_t(n), 0) {
-    reset();
+    reset(n);
   }
-  void reset() {
-    const Box empty{_mm_set1_ps(std::numeric_limits<float>::infinity()),
-                    _mm_set1_ps(-std::numeric_limits<float>::infinity())};
-    std::fill(boxes.begin(), boxes.end(), empty);
-    std::fill(counts.begin(), counts.end(), 0u);
+  void reset(int count) {
+    bin_count = count;
+    std::fill_n(boxes.begin(), 3 * size_t(count), empty_box());
+    std::fill_n(counts.begin(), 3 * size_t(count), 0u);
   }
   static Box empty_box() {
     return {_mm_set1_ps(std::numeric_limits<float>::infinity()),
@@ -97,7 +97,7 @@ struct Bins {
     add(m, make_box_ref(b, 0));
   }
   void merge(const Bins& o) {
-    for (size_t i = 0; i < boxes.size(); ++i) {
+    for (size_t i = 0; i < 3 * size_t(bin_count); ++i) {
       boxes[i].lo = _mm_min_ps(boxes[i].lo, o.boxes[i].lo);
       boxes[i].hi = _mm_max_ps(boxes[i].hi, o.boxes[i].hi);
       counts[i] += o.counts[i];
@@ -112,18 +112,46 @@ struct Bins {
   }
 };
 
-// Adds refs[0, n) to `bins`, alternate primitives going through `spare`
-// (reset here, merged at the end) so that runs of primitives in the same bin
-// do not each wait for the previous update.
+// Adds refs[0, n) to `bins` (reset to m.bins bins). From kTwoBinSetsMin on,
+// alternate primitives go through `spare` (merged at the end) so that runs of
+// primitives in the same bin do not each wait for the previous update.
+inline constexpr size_t kTwoBinSetsMin = 128;
+
 inline void bin_refs(const BinMapping& m, const BoxRef* refs, size_t n, Bins& bins, Bins& spare) {
-  spare.reset();
+  bins.reset(m.bins);
+  const size_t stride = size_t(m.bins);
+  auto add = [&](Bins::Box* box, uint32_t* cnt, const BoxRef& r) {
+    alignas(16) int idx[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(r.center()));
+    for (size_t a = 0; a < 3; ++a) {
+      Bins::Box& b = box[a * stride + size_t(idx[a])];
+      b.lo = _mm_min_ps(b.lo, r.lo);
+      b.hi = _mm_max_ps(b.hi, r.hi);
+      ++cnt[a * stride + size_t(idx[a])];
+    }
+  };
+  Bins::Box* box0 = bins.boxes.data();
+  uint32_t* cnt0 = bins.counts.data();
+  if (n < kTwoBinSetsMin) {
+    for (size_t i = 0; i < n; ++i) add(box0, cnt0, refs[i]);
+    return;
+  }
+  spare.reset(m.bins);
+  Bins::Box* box1 = spare.boxes.data();
+  uint32_t* cnt1 = spare.counts.data();
   size_t i = 0;
   for (; i + 1 < n; i += 2) {
-    bins.add(m, refs[i]);
-    spare.add(m, refs[i + 1]);
+    add(box0, cnt0, refs[i]);
+    add(box1, cnt1, refs[i + 1]);
   }
-  if (i < n) bins.add(m, refs[i]);
+  if (i < n) add(box0, cnt0, refs[i]);
   bins.merge(spare);
+}
+
+// Bins per axis for a node of n primitives: at most max_bins, fewer for small
+// nodes (4 + n / 20, as Embree's binned builders).
+inline int bins_for(size_t n, int max_bins) {
+  return static_cast<int>(std::min(static_cast<size_t>(max_bins), 4 + n / 20));
 }
 
 // The best binned cut: left = bins [0, cut] on `axis`. axis < 0: none found.

@@ -1,7 +1,8 @@
 // Parallel binned SAH builder (Algorithm 5, oneTBB). Nodes with at least
 // options.parallel_cutoff primitives bin in parallel (per-range bins merged
 // with min/max and integer adds: exact) and partition in parallel (per-chunk
-// counts, prefix sums, order-preserving scatter = std::stable_partition);
+// counts, prefix sums, order-preserving scatter = std::stable_partition, into the other of two
+// reference arrays);
 // their children are built as parallel tasks, each below the cut-off by the
 // sequential binned code into its own node vector, and everything is stitched
 // in canonical preorder from subtree sizes. Equals build_binned bit for bit
@@ -13,11 +14,13 @@
 
 #include <algorithm>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 
 #include "bvh/binned_subtree.h"
 #include "bvh/builder_common.h"
 #include "bvh/builders.h"
+#include "bvh/scatter_refs.h"
 
 namespace hprt {
 
@@ -39,14 +42,15 @@ struct BoundsPair {
 
 class ParallelBuilder {
  public:
-  ParallelBuilder(const BuildOptions& o, BoxRef* refs, BoxRef* temp)
-      : o_(o), refs_(refs), temp_(temp) {}
+  // refs: the two reference arrays (see BinnedSubtreeBuilder); order: prim_order.
+  ParallelBuilder(const BuildOptions& o, BoxRef* refs0, BoxRef* refs1, uint32_t* order)
+      : o_(o), refs_{refs0, refs1}, order_(order) {}
 
-  BoundsPair bounds_of(size_t begin, size_t end) const {
+  BoundsPair bounds_of(size_t begin, size_t end, int side) const {
     return tbb::parallel_reduce(
         tbb::blocked_range<size_t>(begin, end, kChunk), BoundsPair{},
         [&](const tbb::blocked_range<size_t>& r, BoundsPair acc) {
-          const auto [b, c] = ref_bounds(refs_ + r.begin(), r.size());
+          const auto [b, c] = ref_bounds(refs_[side] + r.begin(), r.size());
           acc.b.extend(b);
           acc.c.extend(c);
           return acc;
@@ -58,49 +62,54 @@ class ParallelBuilder {
         });
   }
 
-  std::unique_ptr<Part> build(size_t begin, size_t end, int depth, const AABB& bounds,
+  std::unique_ptr<Part> build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
                               const AABB& cbounds) {
     auto part = std::make_unique<Part>();
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff)) {
       part->subtree.reserve(2 * n - 1);
-      BinnedSubtreeBuilder seq(o_, refs_, temp_);
-      seq.build(begin, end, depth, bounds, cbounds, part->subtree);
+      BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
+      seq.build(begin, end, side, depth, bounds, cbounds, part->subtree);
       part->total = part->subtree.size();
       return part;
     }
-    const BinMapping m(cbounds, o_.bins);
+    const BoxRef* src = refs_[side] + begin;
+    const BinMapping m(cbounds, bins_for(n, o_.bins));
     SplitKind kind = decide_before_binning(n, depth, o_.max_leaf_size, m);
-    if (kind == SplitKind::kSah && leaf_before_binning(refs_ + begin, n, bounds.half_area(), o_))
+    if (kind == SplitKind::kSah && leaf_before_binning(src, n, bounds.half_area(), o_))
       kind = SplitKind::kLeaf;
     BinnedSplit split;
     if (kind == SplitKind::kSah) {
-      const Bins bins = parallel_bins(begin, end, m);
+      const Bins bins = parallel_bins(src, n, m);
       std::vector<float> sa;
       std::vector<uint32_t> sc;
       split = find_binned_split(bins, m, o_.sah, bounds.half_area(), sa, sc);
       kind = decide_after_binning(split, n, bounds.half_area(), o_);
     }
     if (kind == SplitKind::kLeaf) {
-      part->node = make_leaf(bounds, begin, n);
+      part->node = make_ref_leaf(bounds, refs_[side], order_, begin, end);
       part->total = 1;
       return part;
     }
     size_t mid;
+    int child_side = side;
     AABB lb, rb, lc, rc;
     if (kind == SplitKind::kSah) {
-      mid = parallel_partition(begin, end, m, split.axis, split.cut, lc, rc);
+      mid = begin + split.left_count;
+      child_side = 1 - side;
+      parallel_partition(src, n, refs_[child_side] + begin, split, m, lc, rc);
       lb = split.left_bounds;
       rb = split.right_bounds;
     } else {  // object median of the (ascending) range, as in build_binned
       mid = begin + n / 2;
       BoundsPair l, r;
-      tbb::parallel_invoke([&] { l = bounds_of(begin, mid); }, [&] { r = bounds_of(mid, end); });
+      tbb::parallel_invoke([&] { l = bounds_of(begin, mid, side); },
+                           [&] { r = bounds_of(mid, end, side); });
       lb = l.b, lc = l.c, rb = r.b, rc = r.c;
     }
     part->node = make_inner(bounds);
-    tbb::parallel_invoke([&] { part->left = build(begin, mid, depth + 1, lb, lc); },
-                         [&] { part->right = build(mid, end, depth + 1, rb, rc); });
+    tbb::parallel_invoke([&] { part->left = build(begin, mid, child_side, depth + 1, lb, lc); },
+                         [&] { part->right = build(mid, end, child_side, depth + 1, rb, rc); });
     part->total = 1 + part->left->total + part->right->total;
     return part;
   }
@@ -125,12 +134,13 @@ class ParallelBuilder {
   }
 
  private:
-  Bins parallel_bins(size_t begin, size_t end, const BinMapping& m) const {
+  Bins parallel_bins(const BoxRef* src, size_t n, const BinMapping& m) const {
     return tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(begin, end, kChunk), Bins(o_.bins),
+        tbb::blocked_range<size_t>(0, n, kChunk), Bins(m.bins),
         [&](const tbb::blocked_range<size_t>& r, Bins acc) {
-          Bins spare(o_.bins);
-          bin_refs(m, refs_ + r.begin(), r.size(), acc, spare);
+          Bins spare(m.bins), part(m.bins);
+          bin_refs(m, src + r.begin(), r.size(), part, spare);
+          acc.merge(part);
           return acc;
         },
         [](Bins x, const Bins& y) {
@@ -139,18 +149,16 @@ class ParallelBuilder {
         });
   }
 
-  // Parallel stable partition of refs_[begin, end): per-chunk left counts,
-  // exclusive prefix sums, order-preserving scatter into temp_, copy back.
-  size_t parallel_partition(size_t begin, size_t end, const BinMapping& m, int axis, int cut,
-                            AABB& lc, AABB& rc) {
-    const size_t n = end - begin;
+  // Parallel stable partition of src[0, n) into dst[0, n): per-chunk left
+  // counts, exclusive prefix sums, order-preserving scatter of every chunk.
+  static void parallel_partition(const BoxRef* src, size_t n, BoxRef* dst, const BinnedSplit& s,
+                                 const BinMapping& m, AABB& lc, AABB& rc) {
     const size_t chunks = (n + kChunk - 1) / kChunk;
     std::vector<size_t> lefts(chunks);
-    std::vector<AABB> lcb(chunks), rcb(chunks);
     tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
-      const size_t b = begin + c * kChunk, e = std::min(end, b + kChunk);
+      const size_t b = c * kChunk, e = std::min(n, b + kChunk);
       size_t k = 0;
-      for (size_t i = b; i < e; ++i) k += goes_left(m, axis, cut, refs_[i]) ? 1 : 0;
+      for (size_t i = b; i < e; ++i) k += goes_left(m, s.axis, s.cut, src[i]) ? 1 : 0;
       lefts[c] = k;
     });
     std::vector<size_t> loff(chunks), roff(chunks);
@@ -162,40 +170,23 @@ class ParallelBuilder {
       nl += lefts[c];
       nr += (e - b) - lefts[c];
     }
+    if (nl != s.left_count) throw std::logic_error("parallel build: partition disagrees");
+    std::vector<VecBox> lcb(chunks), rcb(chunks);
     tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
-      const size_t b = begin + c * kChunk, e = std::min(end, b + kChunk);
-      BoxRef* lw = temp_ + begin + loff[c];
-      BoxRef* rw = temp_ + begin + nl + roff[c];
-      VecBox l, r;
-      for (size_t i = b; i < e; ++i) {
-        const BoxRef& ref = refs_[i];
-        if (goes_left(m, axis, cut, ref)) {
-          *lw++ = ref;
-          l.extend(ref.center());
-        } else {
-          *rw++ = ref;
-          r.extend(ref.center());
-        }
-      }
-      lcb[c] = l.aabb();
-      rcb[c] = r.aabb();
+      const size_t b = c * kChunk, e = std::min(n, b + kChunk);
+      scatter_refs(s.axis, m, s.cut, src + b, e - b, dst + loff[c], dst + nl + roff[c], lcb[c],
+                   rcb[c]);
     });
-    tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, kChunk),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                        std::copy(temp_ + r.begin(), temp_ + r.end(), refs_ + r.begin());
-                      });
     for (size_t c = 0; c < chunks; ++c) {
-      lc.extend(lcb[c]);
-      rc.extend(rcb[c]);
+      lc.extend(lcb[c].aabb());
+      rc.extend(rcb[c].aabb());
     }
-    return begin + nl;
   }
 
   const BuildOptions& o_;
-  BoxRef* refs_;
-  BoxRef* temp_;
+  BoxRef* refs_[2];
+  uint32_t* order_;
 };
-
 }  // namespace
 
 BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
@@ -209,17 +200,12 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
                     [&](const tbb::blocked_range<size_t>& r) {
                       fill_box_refs(prims, refs.get(), r.begin(), r.end());
                     });
-  ParallelBuilder b(options, refs.get(), temp.get());
-  const BoundsPair root = b.bounds_of(0, n);
-  const std::unique_ptr<Part> top = b.build(0, n, 1, root.b, root.c);
+  tree.prim_order.resize(n);
+  ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data());
+  const BoundsPair root = b.bounds_of(0, n, 0);
+  const std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
   tree.nodes.resize(top->total);
   ParallelBuilder::place(*top, 0, tree.nodes.data());
-  tree.prim_order.resize(n);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i < r.end(); ++i)
-                        tree.prim_order[i] = refs[i].index();
-                    });
   return tree;
 }
 
