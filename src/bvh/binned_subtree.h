@@ -47,13 +47,6 @@ inline SplitKind decide_after_binning(const BinnedSplit& s, size_t n, float pare
   return s.axis < 0 ? SplitKind::kMedian : SplitKind::kSah;
 }
 
-// True when the primitive of r goes left of the chosen cut.
-inline bool goes_left(const BinMapping& m, int axis, int cut, const BoxRef& r) {
-  alignas(16) int idx[4];
-  _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(r.center()));
-  return idx[axis] <= cut;
-}
-
 // Leaf over refs[begin, end): its primitives' indices go to order[begin, end).
 inline BuildNode make_ref_leaf(const AABB& bounds, const BoxRef* refs, uint32_t* order,
                                size_t begin, size_t end) {
@@ -72,18 +65,21 @@ class BinnedSubtreeBuilder {
   // prim_order, written by the leaves.
   BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* refs0, BoxRef* refs1, uint32_t* order);
 
-  // Appends the subtree over refs[side][begin, end) to `out` in canonical
-  // preorder, with `right` links relative to out's start and leaf `first` absolute.
-  void build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
-             const AABB& centroid_bounds, std::vector<BuildNode>& out);
+  // Writes the subtree over refs[side][begin, end) to out[0, count) in
+  // canonical preorder (room for 2 * (end - begin) - 1 nodes), with `right`
+  // links relative to out and leaf `first` absolute. Returns count.
+  size_t build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
+               const AABB& centroid_bounds, BuildNode* out);
 
  private:
   void recurse(size_t begin, size_t end, int side, int depth, const AABB& bounds,
-               const AABB& cbounds, size_t base, std::vector<BuildNode>& out);
+               const AABB& cbounds);
 
   const BuildOptions& options_;
   BoxRef* refs_[2];
   uint32_t* order_;
+  BuildNode* out_ = nullptr;
+  size_t count_ = 0;
   Bins bins_, spare_;
   std::vector<float> scratch_area_;
   std::vector<uint32_t> scratch_count_;

@@ -9,6 +9,7 @@
 #include "bvh/binned_subtree.h"
 #include "bvh/builder_common.h"
 #include "bvh/builders.h"
+#include "bvh/huge_buffer.h"
 #include "bvh/scatter_refs.h"
 
 namespace hprt {
@@ -21,14 +22,17 @@ BinnedSubtreeBuilder::BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* 
       bins_(options.bins),
       spare_(options.bins) {}
 
-void BinnedSubtreeBuilder::build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
-                                 const AABB& centroid_bounds, std::vector<BuildNode>& out) {
-  recurse(begin, end, side, depth, bounds, centroid_bounds, out.size(), out);
+size_t BinnedSubtreeBuilder::build(size_t begin, size_t end, int side, int depth,
+                                   const AABB& bounds, const AABB& centroid_bounds,
+                                   BuildNode* out) {
+  out_ = out;
+  count_ = 0;
+  recurse(begin, end, side, depth, bounds, centroid_bounds);
+  return count_;
 }
 
 void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int side, int depth,
-                                   const AABB& bounds, const AABB& cbounds, size_t base,
-                                   std::vector<BuildNode>& out) {
+                                   const AABB& bounds, const AABB& cbounds) {
   const size_t n = end - begin;
   const BoxRef* src = refs_[side] + begin;
   const BinMapping m(cbounds, bins_for(n, options_.bins));
@@ -46,7 +50,7 @@ void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int side, int depth
     kind = decide_after_binning(split, n, bounds.half_area(), options_);
   }
   if (kind == SplitKind::kLeaf) {
-    out.push_back(make_ref_leaf(bounds, refs_[side], order_, begin, end));
+    out_[count_++] = make_ref_leaf(bounds, refs_[side], order_, begin, end);
     return;
   }
   size_t mid;
@@ -68,11 +72,11 @@ void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int side, int depth
     std::tie(lb, lc) = ref_bounds(src, mid - begin);
     std::tie(rb, rc) = ref_bounds(src + (mid - begin), end - mid);
   }
-  const size_t me = out.size();
-  out.push_back(make_inner(bounds));
-  recurse(begin, mid, child_side, depth + 1, lb, lc, base, out);
-  out[me].right = static_cast<uint32_t>(out.size() - base);
-  recurse(mid, end, child_side, depth + 1, rb, rc, base, out);
+  const size_t me = count_++;
+  out_[me] = make_inner(bounds);
+  recurse(begin, mid, child_side, depth + 1, lb, lc);
+  out_[me].right = static_cast<uint32_t>(count_);
+  recurse(mid, end, child_side, depth + 1, rb, rc);
 }
 
 BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
@@ -80,14 +84,19 @@ BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
   BuildTree tree;
   const size_t n = prims.size();
   if (n == 0) return tree;
-  const auto refs = std::make_unique_for_overwrite<BoxRef[]>(n);
-  const auto temp = std::make_unique_for_overwrite<BoxRef[]>(n);
+  const auto refs = make_huge_buffer<BoxRef>(n);
+  const auto temp = make_huge_buffer<BoxRef>(n);
   fill_box_refs(prims, refs.get(), 0, n);
   const auto [bounds, cbounds] = ref_bounds(refs.get(), n);
-  tree.nodes.reserve(2 * n - 1);
+  tree.prim_order.reserve(n);
+  advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
   tree.prim_order.resize(n);
+  const auto nodes = make_huge_buffer<BuildNode>(2 * n - 1);
   BinnedSubtreeBuilder builder(options, refs.get(), temp.get(), tree.prim_order.data());
-  builder.build(0, n, 0, 1, bounds, cbounds, tree.nodes);
+  const size_t count = builder.build(0, n, 0, 1, bounds, cbounds, nodes.get());
+  tree.nodes.reserve(count);
+  advise_huge_pages(tree.nodes.data(), count * sizeof(BuildNode));
+  tree.nodes.assign(nodes.get(), nodes.get() + count);
   return tree;
 }
 

@@ -20,6 +20,7 @@
 #include "bvh/binned_subtree.h"
 #include "bvh/builder_common.h"
 #include "bvh/builders.h"
+#include "bvh/huge_buffer.h"
 #include "bvh/scatter_refs.h"
 
 namespace hprt {
@@ -32,8 +33,9 @@ constexpr size_t kChunk = 8192;  // fixed work unit: never depends on the thread
 struct Part {
   BuildNode node;
   std::unique_ptr<Part> left, right;
-  std::vector<BuildNode> subtree;  // non-empty: this part is a finished subtree
-  size_t total = 0;                // nodes in this part
+  const BuildNode* subtree = nullptr;  // non-null: this part is a finished subtree
+  size_t subtree_size = 0;
+  size_t total = 0;  // nodes in this part
 };
 
 struct BoundsPair {
@@ -42,9 +44,11 @@ struct BoundsPair {
 
 class ParallelBuilder {
  public:
-  // refs: the two reference arrays (see BinnedSubtreeBuilder); order: prim_order.
-  ParallelBuilder(const BuildOptions& o, BoxRef* refs0, BoxRef* refs1, uint32_t* order)
-      : o_(o), refs_{refs0, refs1}, order_(order) {}
+  // refs: the two reference arrays (see BinnedSubtreeBuilder); order:
+  // prim_order; scratch: room for 2 * n nodes, where subtrees are built.
+  ParallelBuilder(const BuildOptions& o, BoxRef* refs0, BoxRef* refs1, uint32_t* order,
+                  BuildNode* scratch)
+      : o_(o), refs_{refs0, refs1}, order_(order), scratch_(scratch) {}
 
   BoundsPair bounds_of(size_t begin, size_t end, int side) const {
     return tbb::parallel_reduce(
@@ -67,10 +71,12 @@ class ParallelBuilder {
     auto part = std::make_unique<Part>();
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff)) {
-      part->subtree.reserve(2 * n - 1);
+      // Ranges are disjoint, so their node slots [2 * begin, 2 * end) are too.
+      BuildNode* out = scratch_ + 2 * begin;
       BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
-      seq.build(begin, end, side, depth, bounds, cbounds, part->subtree);
-      part->total = part->subtree.size();
+      part->subtree_size = seq.build(begin, end, side, depth, bounds, cbounds, out);
+      part->subtree = out;
+      part->total = part->subtree_size;
       return part;
     }
     const BoxRef* src = refs_[side] + begin;
@@ -79,8 +85,10 @@ class ParallelBuilder {
     if (kind == SplitKind::kSah && leaf_before_binning(src, n, bounds.half_area(), o_))
       kind = SplitKind::kLeaf;
     BinnedSplit split;
+    Bins bins;
+    std::vector<Bins> chunk_bins;
     if (kind == SplitKind::kSah) {
-      const Bins bins = parallel_bins(src, n, m);
+      bins = parallel_bins(src, n, m, chunk_bins);
       std::vector<float> sa;
       std::vector<uint32_t> sc;
       split = find_binned_split(bins, m, o_.sah, bounds.half_area(), sa, sc);
@@ -97,7 +105,8 @@ class ParallelBuilder {
     if (kind == SplitKind::kSah) {
       mid = begin + split.left_count;
       child_side = 1 - side;
-      parallel_partition(src, n, refs_[child_side] + begin, split, m, lc, rc);
+      parallel_partition(src, n, refs_[child_side] + begin, split, m, chunk_bins, lc, rc);
+      chunk_bins = {};
       lb = split.left_bounds;
       rb = split.right_bounds;
     } else {  // object median of the (ascending) range, as in build_binned
@@ -116,9 +125,9 @@ class ParallelBuilder {
 
   // Writes `part` into out[offset, offset + part.total) in canonical preorder.
   static void place(const Part& part, size_t offset, BuildNode* out) {
-    if (!part.subtree.empty()) {
+    if (part.subtree) {
       const uint32_t off = static_cast<uint32_t>(offset);
-      for (size_t i = 0; i < part.subtree.size(); ++i) {
+      for (size_t i = 0; i < part.subtree_size; ++i) {
         BuildNode nd = part.subtree[i];
         if (!nd.is_leaf()) nd.right += off;
         out[offset + i] = nd;
@@ -134,37 +143,35 @@ class ParallelBuilder {
   }
 
  private:
-  Bins parallel_bins(const BoxRef* src, size_t n, const BinMapping& m) const {
-    return tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(0, n, kChunk), Bins(m.bins),
-        [&](const tbb::blocked_range<size_t>& r, Bins acc) {
-          Bins spare(m.bins), part(m.bins);
-          bin_refs(m, src + r.begin(), r.size(), part, spare);
-          acc.merge(part);
-          return acc;
-        },
-        [](Bins x, const Bins& y) {
-          x.merge(y);
-          return x;
-        });
+  // Bins of every kChunk-sized chunk of src[0, n) (kept: the partition takes
+  // its per-chunk left counts from them) and their merge (exact in any order).
+  static Bins parallel_bins(const BoxRef* src, size_t n, const BinMapping& m,
+                            std::vector<Bins>& chunk_bins) {
+    const size_t chunks = (n + kChunk - 1) / kChunk;
+    chunk_bins.assign(chunks, Bins(m.bins));
+    tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+      const size_t b = c * kChunk, e = std::min(n, b + kChunk);
+      Bins spare(m.bins);
+      bin_refs(m, src + b, e - b, chunk_bins[c], spare);
+    });
+    Bins all(m.bins);
+    for (const Bins& cb : chunk_bins) all.merge(cb);
+    return all;
   }
 
   // Parallel stable partition of src[0, n) into dst[0, n): per-chunk left
-  // counts, exclusive prefix sums, order-preserving scatter of every chunk.
+  // counts from the chunks' bins, exclusive prefix sums, order-preserving
+  // scatter of every chunk.
   static void parallel_partition(const BoxRef* src, size_t n, BoxRef* dst, const BinnedSplit& s,
-                                 const BinMapping& m, AABB& lc, AABB& rc) {
-    const size_t chunks = (n + kChunk - 1) / kChunk;
-    std::vector<size_t> lefts(chunks);
-    tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
-      const size_t b = c * kChunk, e = std::min(n, b + kChunk);
-      size_t k = 0;
-      for (size_t i = b; i < e; ++i) k += goes_left(m, s.axis, s.cut, src[i]) ? 1 : 0;
-      lefts[c] = k;
-    });
-    std::vector<size_t> loff(chunks), roff(chunks);
+                                 const BinMapping& m, const std::vector<Bins>& chunk_bins, AABB& lc,
+                                 AABB& rc) {
+    const size_t chunks = chunk_bins.size();
+    std::vector<size_t> lefts(chunks, 0), loff(chunks), roff(chunks);
     size_t nl = 0, nr = 0;
     for (size_t c = 0; c < chunks; ++c) {
       const size_t b = c * kChunk, e = std::min(n, b + kChunk);
+      const uint32_t* cnt = &chunk_bins[c].counts[size_t(s.axis) * size_t(m.bins)];
+      for (int k = 0; k <= s.cut; ++k) lefts[c] += cnt[k];
       loff[c] = nl;
       roff[c] = nr;
       nl += lefts[c];
@@ -174,8 +181,9 @@ class ParallelBuilder {
     std::vector<VecBox> lcb(chunks), rcb(chunks);
     tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
       const size_t b = c * kChunk, e = std::min(n, b + kChunk);
-      scatter_refs(s.axis, m, s.cut, src + b, e - b, dst + loff[c], dst + nl + roff[c], lcb[c],
-                   rcb[c]);
+      if (scatter_refs(s.axis, m, s.cut, src + b, e - b, dst + loff[c], dst + nl + roff[c], lcb[c],
+                       rcb[c]) != lefts[c])
+        throw std::logic_error("parallel build: partition disagrees");
     });
     for (size_t c = 0; c < chunks; ++c) {
       lc.extend(lcb[c].aabb());
@@ -186,6 +194,7 @@ class ParallelBuilder {
   const BuildOptions& o_;
   BoxRef* refs_[2];
   uint32_t* order_;
+  BuildNode* scratch_;
 };
 }  // namespace
 
@@ -194,16 +203,21 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   BuildTree tree;
   const size_t n = prims.size();
   if (n == 0) return tree;
-  const auto refs = std::make_unique_for_overwrite<BoxRef[]>(n);
-  const auto temp = std::make_unique_for_overwrite<BoxRef[]>(n);
+  const auto refs = make_huge_buffer<BoxRef>(n);
+  const auto temp = make_huge_buffer<BoxRef>(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
                     [&](const tbb::blocked_range<size_t>& r) {
                       fill_box_refs(prims, refs.get(), r.begin(), r.end());
                     });
+  tree.prim_order.reserve(n);
+  advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
   tree.prim_order.resize(n);
-  ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data());
+  const auto scratch = make_huge_buffer<BuildNode>(2 * n);
+  ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data(), scratch.get());
   const BoundsPair root = b.bounds_of(0, n, 0);
   const std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
+  tree.nodes.reserve(top->total);
+  advise_huge_pages(tree.nodes.data(), top->total * sizeof(BuildNode));
   tree.nodes.resize(top->total);
   ParallelBuilder::place(*top, 0, tree.nodes.data());
   return tree;
