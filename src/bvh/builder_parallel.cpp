@@ -8,11 +8,13 @@
 // in canonical preorder from subtree sizes. Equals build_binned bit for bit
 // for any thread count.
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -45,7 +47,7 @@ struct BoundsPair {
 class ParallelBuilder {
  public:
   // refs: the two reference arrays (see BinnedSubtreeBuilder); order:
-  // prim_order; scratch: room for 2 * n nodes, where subtrees are built.
+  // prim_order; scratch: room for 2 * n - 1 nodes, where subtrees are kept.
   ParallelBuilder(const BuildOptions& o, BoxRef* refs0, BoxRef* refs1, uint32_t* order,
                   BuildNode* scratch)
       : o_(o), refs_{refs0, refs1}, order_(order), scratch_(scratch) {}
@@ -71,12 +73,17 @@ class ParallelBuilder {
     auto part = std::make_unique<Part>();
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff)) {
-      // Ranges are disjoint, so their node slots [2 * begin, 2 * end) are too.
-      BuildNode* out = scratch_ + 2 * begin;
+      // Built in this thread's buffer, then packed into the shared scratch
+      // (only the touched part of it gets memory).
+      std::vector<BuildNode>& local = local_nodes_.local();
+      if (local.size() < 2 * n - 1) local.resize(2 * n - 1);
       BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
-      part->subtree_size = seq.build(begin, end, side, depth, bounds, cbounds, out);
+      const size_t count = seq.build(begin, end, side, depth, bounds, cbounds, local.data());
+      BuildNode* out = scratch_ + scratch_used_.fetch_add(count);
+      std::copy(local.data(), local.data() + count, out);
       part->subtree = out;
-      part->total = part->subtree_size;
+      part->subtree_size = count;
+      part->total = count;
       return part;
     }
     const BoxRef* src = refs_[side] + begin;
@@ -195,6 +202,8 @@ class ParallelBuilder {
   BoxRef* refs_[2];
   uint32_t* order_;
   BuildNode* scratch_;
+  std::atomic<size_t> scratch_used_{0};
+  tbb::enumerable_thread_specific<std::vector<BuildNode>> local_nodes_;
 };
 }  // namespace
 
@@ -212,7 +221,7 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   tree.prim_order.reserve(n);
   advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
   tree.prim_order.resize(n);
-  const auto scratch = make_huge_buffer<BuildNode>(2 * n);
+  const auto scratch = make_huge_buffer<BuildNode>(2 * n - 1);
   ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data(), scratch.get());
   const BoundsPair root = b.bounds_of(0, n, 0);
   const std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
