@@ -58,10 +58,11 @@ struct BinMapping {
 };
 
 // bins[axis * bin_count + b]: box and primitive count of bin b on that axis.
-// Boxes are kept as 4-wide lo/hi vectors (SSE min/max per primitive).
+// Boxes are kept as lo and -hi vectors, so that extending one is a single
+// (AVX: 8-wide) min; negation is exact, so the bits are those of lo/hi.
 struct Bins {
-  struct alignas(16) Box {
-    __m128 lo, hi;
+  struct alignas(32) Box {
+    __m128 lo, nhi;  // min.xyz, -max.xyz
   };
   int bin_count = 0;
   std::vector<Box> boxes;
@@ -77,19 +78,27 @@ struct Bins {
     std::fill_n(counts.begin(), 3 * size_t(count), 0u);
   }
   static Box empty_box() {
-    return {_mm_set1_ps(std::numeric_limits<float>::infinity()),
-            _mm_set1_ps(-std::numeric_limits<float>::infinity())};
+    const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+    return {inf, inf};
   }
-  static AABB to_aabb(const Box& b) { return vec_to_aabb(b.lo, b.hi); }
+  static __m128 neg(__m128 v) { return _mm_xor_ps(v, _mm_set1_ps(-0.0f)); }
+  static AABB to_aabb(const Box& b) { return vec_to_aabb(b.lo, neg(b.nhi)); }
+  static float half_area(const Box& b) { return vec_half_area(b.lo, neg(b.nhi)); }
+  static void extend(Box& d, const Box& b) {
+    d.lo = _mm_min_ps(d.lo, b.lo);
+    d.nhi = _mm_min_ps(d.nhi, b.nhi);
+  }
   AABB box(size_t i) const { return to_aabb(boxes[i]); }
   // Adds one primitive to its bin on every axis (unusable axes: bin 0, never read).
   void add(const BinMapping& m, const BoxRef& r) {
     alignas(16) int idx[4];
     _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(r.center()));
     const int n = bin_count;
-    extend(idx[0], r.lo, r.hi);
-    extend(n + idx[1], r.lo, r.hi);
-    extend(2 * n + idx[2], r.lo, r.hi);
+    const Box rb{r.lo, neg(r.hi)};
+    for (int a = 0; a < 3; ++a) {
+      extend(boxes[size_t(a * n + idx[a])], rb);
+      ++counts[size_t(a * n + idx[a])];
+    }
   }
   // The same for a box b whose centre is c (c == b.center()).
   void add(const BinMapping& m, const AABB& b, const Vec3f& c) {
@@ -98,17 +107,9 @@ struct Bins {
   }
   void merge(const Bins& o) {
     for (size_t i = 0; i < 3 * size_t(bin_count); ++i) {
-      boxes[i].lo = _mm_min_ps(boxes[i].lo, o.boxes[i].lo);
-      boxes[i].hi = _mm_max_ps(boxes[i].hi, o.boxes[i].hi);
+      extend(boxes[i], o.boxes[i]);
       counts[i] += o.counts[i];
     }
-  }
-
- private:
-  void extend(int i, __m128 lo, __m128 hi) {
-    boxes[i].lo = _mm_min_ps(boxes[i].lo, lo);
-    boxes[i].hi = _mm_max_ps(boxes[i].hi, hi);
-    ++counts[i];
   }
 };
 
@@ -123,12 +124,20 @@ inline void bin_refs(const BinMapping& m, const BoxRef* refs, size_t n, Bins& bi
   auto add = [&](Bins::Box* box, uint32_t* cnt, const BoxRef& r) {
     alignas(16) int idx[4];
     _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(r.center()));
+#if defined(__AVX__)
+    const __m256 rb = _mm256_insertf128_ps(_mm256_castps128_ps256(r.lo), Bins::neg(r.hi), 1);
     for (size_t a = 0; a < 3; ++a) {
-      Bins::Box& b = box[a * stride + size_t(idx[a])];
-      b.lo = _mm_min_ps(b.lo, r.lo);
-      b.hi = _mm_max_ps(b.hi, r.hi);
+      float* b = reinterpret_cast<float*>(&box[a * stride + size_t(idx[a])]);
+      _mm256_store_ps(b, _mm256_min_ps(_mm256_load_ps(b), rb));
       ++cnt[a * stride + size_t(idx[a])];
     }
+#else
+    const Bins::Box rb{r.lo, Bins::neg(r.hi)};
+    for (size_t a = 0; a < 3; ++a) {
+      Bins::extend(box[a * stride + size_t(idx[a])], rb);
+      ++cnt[a * stride + size_t(idx[a])];
+    }
+#endif
   };
   Bins::Box* box0 = bins.boxes.data();
   uint32_t* cnt0 = bins.counts.data();
@@ -180,26 +189,23 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
     Bins::Box acc = Bins::empty_box();
     uint32_t acc_n = 0;
     for (int b = n - 1; b > 0; --b) {  // suffix: bins [b, n)
-      acc.lo = _mm_min_ps(acc.lo, box[b].lo);
-      acc.hi = _mm_max_ps(acc.hi, box[b].hi);
+      Bins::extend(acc, box[b]);
       acc_n += cnt[b];
       // An empty bin leaves the suffix box as it was: reuse its area.
-      scratch_area[b] =
-          cnt[b] ? vec_half_area(acc.lo, acc.hi) : (b + 1 < n ? scratch_area[b + 1] : 0.0f);
+      scratch_area[b] = cnt[b] ? Bins::half_area(acc) : (b + 1 < n ? scratch_area[b + 1] : 0.0f);
       scratch_count[b] = acc_n;
     }
     Bins::Box left = Bins::empty_box();
     uint32_t left_n = 0;
     for (int c = 0; c < n - 1; ++c) {  // cut after bin c
-      left.lo = _mm_min_ps(left.lo, box[c].lo);
-      left.hi = _mm_max_ps(left.hi, box[c].hi);
+      Bins::extend(left, box[c]);
       left_n += cnt[c];
       const uint32_t right_n = scratch_count[c + 1];
       if (left_n == 0 || right_n == 0) continue;
       // A run of empty bins prices the same cut as the occupied bin before it
       // (and ties keep the lowest cut), so only cuts after occupied bins count.
       if (cnt[c] == 0) continue;
-      const float cost = sah_split_cost(sah, parent_area, vec_half_area(left.lo, left.hi), left_n,
+      const float cost = sah_split_cost(sah, parent_area, Bins::half_area(left), left_n,
                                         scratch_area[c + 1], right_n);
       if (cost < best.cost) {
         best.axis = a;
@@ -259,18 +265,16 @@ inline BinnedSplit find_binned_split_small(const BoxRef* refs, size_t n, const B
       }
     }
     // Suffix areas, needed only where a new bin starts (keys[i] begins a bin).
-    Bins::Box acc = Bins::empty_box();
+    VecBox acc;
     for (size_t i = n - 1; i > 0; --i) {
       const BoxRef& b = box[keys[i] & 31];
-      acc.lo = _mm_min_ps(acc.lo, b.lo);
-      acc.hi = _mm_max_ps(acc.hi, b.hi);
+      acc.extend(b.lo, b.hi);
       if ((keys[i] >> 5) != (keys[i - 1] >> 5)) right_area[i] = vec_half_area(acc.lo, acc.hi);
     }
-    Bins::Box left = Bins::empty_box();
+    VecBox left;
     for (size_t i = 0; i + 1 < n; ++i) {
       const BoxRef& b = box[keys[i] & 31];
-      left.lo = _mm_min_ps(left.lo, b.lo);
-      left.hi = _mm_max_ps(left.hi, b.hi);
+      left.extend(b.lo, b.hi);
       const int cut = keys[i] >> 5;
       if ((keys[i + 1] >> 5) == cut) continue;  // not the end of an occupied bin
       const float cost = sah_split_cost(sah, parent_area, vec_half_area(left.lo, left.hi),
@@ -286,14 +290,11 @@ inline BinnedSplit find_binned_split_small(const BoxRef* refs, size_t n, const B
     }
   }
   if (best.axis >= 0) {
-    Bins::Box l = Bins::empty_box(), r = Bins::empty_box();
-    for (size_t i = 0; i < n; ++i) {
-      Bins::Box& d = bin[best.axis][i] <= best.cut ? l : r;
-      d.lo = _mm_min_ps(d.lo, box[i].lo);
-      d.hi = _mm_max_ps(d.hi, box[i].hi);
-    }
-    best.left_bounds = Bins::to_aabb(l);
-    best.right_bounds = Bins::to_aabb(r);
+    VecBox l, r;
+    for (size_t i = 0; i < n; ++i)
+      (bin[best.axis][i] <= best.cut ? l : r).extend(box[i].lo, box[i].hi);
+    best.left_bounds = l.aabb();
+    best.right_bounds = r.aabb();
   }
   return best;
 }
