@@ -65,11 +65,10 @@ class BinnedSubtreeBuilder {
   // prim_order, written by the leaves.
   BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* refs0, BoxRef* refs1, uint32_t* order);
 
-  // Writes the subtree over refs[side][begin, end) to out[0, count) in
-  // canonical preorder (room for 2 * (end - begin) - 1 nodes), with `right`
-  // links relative to out and leaf `first` absolute. Returns count.
-  size_t build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
-               const AABB& centroid_bounds, BuildNode* out);
+  // Appends the subtree over refs[side][begin, end) to `out` in canonical
+  // preorder, with `right` links relative to out's start and leaf `first` absolute.
+  void build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
+             const AABB& centroid_bounds, std::vector<BuildNode>& out);
 
  private:
   void recurse(size_t begin, size_t end, int side, int depth, const AABB& bounds,
@@ -78,8 +77,8 @@ class BinnedSubtreeBuilder {
   const BuildOptions& options_;
   BoxRef* refs_[2];
   uint32_t* order_;
-  BuildNode* out_ = nullptr;
-  size_t count_ = 0;
+  std::vector<BuildNode>* out_ = nullptr;
+  size_t base_ = 0;
   Bins bins_, spare_;
   std::vector<float> scratch_area_;
   std::vector<uint32_t> scratch_count_;

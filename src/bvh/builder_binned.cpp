@@ -22,13 +22,11 @@ BinnedSubtreeBuilder::BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* 
       bins_(options.bins),
       spare_(options.bins) {}
 
-size_t BinnedSubtreeBuilder::build(size_t begin, size_t end, int side, int depth,
-                                   const AABB& bounds, const AABB& centroid_bounds,
-                                   BuildNode* out) {
-  out_ = out;
-  count_ = 0;
+void BinnedSubtreeBuilder::build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
+                                 const AABB& centroid_bounds, std::vector<BuildNode>& out) {
+  out_ = &out;
+  base_ = out.size();
   recurse(begin, end, side, depth, bounds, centroid_bounds);
-  return count_;
 }
 
 void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int side, int depth,
@@ -50,7 +48,7 @@ void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int side, int depth
     kind = decide_after_binning(split, n, bounds.half_area(), options_);
   }
   if (kind == SplitKind::kLeaf) {
-    out_[count_++] = make_ref_leaf(bounds, refs_[side], order_, begin, end);
+    out_->push_back(make_ref_leaf(bounds, refs_[side], order_, begin, end));
     return;
   }
   size_t mid;
@@ -72,10 +70,10 @@ void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int side, int depth
     std::tie(lb, lc) = ref_bounds(src, mid - begin);
     std::tie(rb, rc) = ref_bounds(src + (mid - begin), end - mid);
   }
-  const size_t me = count_++;
-  out_[me] = make_inner(bounds);
+  const size_t me = out_->size();
+  out_->push_back(make_inner(bounds));
   recurse(begin, mid, child_side, depth + 1, lb, lc);
-  out_[me].right = static_cast<uint32_t>(count_);
+  (*out_)[me].right = static_cast<uint32_t>(out_->size() - base_);
   recurse(mid, end, child_side, depth + 1, rb, rc);
 }
 
@@ -91,12 +89,10 @@ BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
   tree.prim_order.reserve(n);
   advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
   tree.prim_order.resize(n);
-  const auto nodes = make_huge_buffer<BuildNode>(2 * n - 1);
+  tree.nodes.reserve(2 * n - 1);
+  advise_huge_pages(tree.nodes.data(), (2 * n - 1) * sizeof(BuildNode));
   BinnedSubtreeBuilder builder(options, refs.get(), temp.get(), tree.prim_order.data());
-  const size_t count = builder.build(0, n, 0, 1, bounds, cbounds, nodes.get());
-  tree.nodes.reserve(count);
-  advise_huge_pages(tree.nodes.data(), count * sizeof(BuildNode));
-  tree.nodes.assign(nodes.get(), nodes.get() + count);
+  builder.build(0, n, 0, 1, bounds, cbounds, tree.nodes);
   return tree;
 }
 

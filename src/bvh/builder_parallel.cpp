@@ -76,9 +76,10 @@ class ParallelBuilder {
       // Built in this thread's buffer, then packed into the shared scratch
       // (only the touched part of it gets memory).
       std::vector<BuildNode>& local = local_nodes_.local();
-      if (local.size() < 2 * n - 1) local.resize(2 * n - 1);
+      local.clear();
       BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
-      const size_t count = seq.build(begin, end, side, depth, bounds, cbounds, local.data());
+      seq.build(begin, end, side, depth, bounds, cbounds, local);
+      const size_t count = local.size();
       BuildNode* out = scratch_ + scratch_used_.fetch_add(count);
       std::copy(local.data(), local.data() + count, out);
       part->subtree = out;
