@@ -1,6 +1,7 @@
-// Binned SAH builder (Algorithm 3; Wald 2007): options.bins bins per axis over
-// the node's centroid bounds, bins-1 cuts per axis from prefix/suffix sweeps,
-// stable partition between two reference arrays. Sequential; build_parallel reproduces it exactly.
+// Binned SAH builder (Algorithm 3; Wald 2007): per axis, bins_for(n) (at most
+// options.bins) bins over the node's centroid bounds, bins-1 cuts from
+// prefix/suffix sweeps, stable partition between two reference arrays.
+// Sequential; build_parallel reproduces it exactly.
 #include <algorithm>
 #include <memory>
 #include <stdexcept>
