@@ -111,7 +111,7 @@ TEST(Binning, SmallNodeShortcutEqualsBins) {
     const int bin_count = trial % 3 == 0 ? 4 : 32;
     std::vector<AABB> boxes;
     std::vector<Vec3f> cents;
-    std::vector<uint32_t> ids;
+    std::vector<BoxRef> refs;
     AABB parent, cb;
     for (size_t i = 0; i < n; ++i) {
       // Coarse positions make shared bins and equal costs (ties) likely.
@@ -119,7 +119,7 @@ TEST(Binning, SmallNodeShortcutEqualsBins) {
       const AABB b(lo, lo + Vec3f{0.5f + rnd(), 0.5f, 0.25f + float(i % 2)});
       boxes.push_back(b);
       cents.push_back(b.center());
-      ids.push_back(static_cast<uint32_t>(i));
+      refs.push_back(make_box_ref(b, static_cast<uint32_t>(i)));
       parent.extend(b);
       cb.extend(b.center());
     }
@@ -129,8 +129,8 @@ TEST(Binning, SmallNodeShortcutEqualsBins) {
     std::vector<float> sa;
     std::vector<uint32_t> sc;
     const BinnedSplit a = find_binned_split(bins, m, SahParams{}, parent.half_area(), sa, sc);
-    const BinnedSplit b = find_binned_split_small(boxes.data(), cents.data(), ids.data(), n, m,
-                                                  SahParams{}, parent.half_area());
+    const BinnedSplit b =
+        find_binned_split_small(refs.data(), n, m, SahParams{}, parent.half_area());
     ASSERT_EQ(a.axis, b.axis) << trial;
     EXPECT_EQ(a.cut, b.cut) << trial;
     EXPECT_EQ(a.cost, b.cost) << trial;

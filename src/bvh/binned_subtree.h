@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "bvh/binning.h"
+#include "bvh/box_ref.h"
 #include "bvh/build_options.h"
 #include "bvh/build_tree.h"
-#include "bvh/prim_info.h"
 #include "bvh/sah.h"
 
 namespace hprt {
@@ -28,37 +28,58 @@ inline SplitKind decide_before_binning(size_t n, int depth, int max_leaf_size,
   return SplitKind::kSah;
 }
 
+// True when a leaf costs no more than a lower bound of every split's cost,
+// C_t SA(P) + C_i sum SA(prim) (a child's box holds its primitives' boxes, and
+// computed areas grow with the box): binning would choose the leaf too. The
+// margin covers the rounding of both sums, so the answer is always binning's.
+inline bool leaf_before_binning(const BoxRef* refs, size_t n, float parent_area,
+                                const BuildOptions& o) {
+  if (n > static_cast<size_t>(o.max_leaf_size) || n > kSmallNodeMax) return false;
+  float areas = 0.0f;
+  for (size_t i = 0; i < n; ++i) areas += vec_half_area(refs[i].lo, refs[i].hi);
+  const float bound = o.sah.traversal_cost * parent_area + o.sah.intersection_cost * areas;
+  return sah_leaf_cost(o.sah, parent_area, n) <= bound * (1.0f - 1e-5f);
+}
+
 inline SplitKind decide_after_binning(const BinnedSplit& s, size_t n, float parent_area,
                                       const BuildOptions& o) {
   if (sah_make_leaf(o.sah, o.max_leaf_size, parent_area, n, s.cost)) return SplitKind::kLeaf;
   return s.axis < 0 ? SplitKind::kMedian : SplitKind::kSah;
 }
 
-// True when the primitive with centroid c goes left of the chosen cut.
-inline bool goes_left(const BinMapping& m, int axis, int cut, const Vec3f& c) {
-  return m.bin(c[axis], axis) <= cut;
+// Leaf over refs[begin, end): its primitives' indices go to order[begin, end).
+inline BuildNode make_ref_leaf(const AABB& bounds, const BoxRef* refs, uint32_t* order,
+                               size_t begin, size_t end) {
+  for (size_t i = begin; i < end; ++i) order[i] = refs[i].index();
+  BuildNode n;
+  n.bounds = bounds;
+  n.first = static_cast<uint32_t>(begin);
+  n.count = static_cast<uint32_t>(end - begin);
+  return n;
 }
 
 class BinnedSubtreeBuilder {
  public:
-  // order/temp: the whole primitive order and a scratch array of equal size.
-  BinnedSubtreeBuilder(const PrimInfo& prims, const BuildOptions& options, uint32_t* order,
-                       uint32_t* temp);
+  // refs: two reference arrays of the input's size; a range lives in one of
+  // them (side 0 or 1) and its SAH children in the other. order: the tree's
+  // prim_order, written by the leaves.
+  BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* refs0, BoxRef* refs1, uint32_t* order);
 
-  // Appends the subtree over order[begin, end) to `out` in canonical preorder,
-  // with `right` links relative to out's start and leaf `first` absolute.
-  void build(size_t begin, size_t end, int depth, const AABB& bounds, const AABB& centroid_bounds,
-             std::vector<BuildNode>& out);
+  // Appends the subtree over refs[side][begin, end) to `out` in canonical
+  // preorder, with `right` links relative to out's start and leaf `first` absolute.
+  void build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
+             const AABB& centroid_bounds, std::vector<BuildNode>& out);
 
  private:
-  void recurse(size_t begin, size_t end, int depth, const AABB& bounds, const AABB& cbounds,
-               size_t base, std::vector<BuildNode>& out);
+  void recurse(size_t begin, size_t end, int side, int depth, const AABB& bounds,
+               const AABB& cbounds);
 
-  const PrimInfo& prims_;
   const BuildOptions& options_;
+  BoxRef* refs_[2];
   uint32_t* order_;
-  uint32_t* temp_;
-  Bins bins_;
+  std::vector<BuildNode>* out_ = nullptr;
+  size_t base_ = 0;
+  Bins bins_, spare_;
   std::vector<float> scratch_area_;
   std::vector<uint32_t> scratch_count_;
 };

@@ -13,6 +13,7 @@
 #include <limits>
 #include <vector>
 
+#include "bvh/box_ref.h"
 #include "bvh/build_options.h"
 #include "bvh/sah.h"
 #include "core/aabb.h"
@@ -26,6 +27,8 @@ struct BinMapping {
   float cmin[3] = {0, 0, 0};
   float k[3] = {0, 0, 0};
   bool usable[3] = {false, false, false};
+  __m128 vcmin, vk;  // cmin and k as vectors (lane 3: 0)
+  __m128 vlast;      // bins - 1 in every lane
 
   BinMapping(const AABB& centroid_bounds, int bin_count) : bins(bin_count) {
     constexpr float kEps = 1e-6f;
@@ -37,76 +40,128 @@ struct BinMapping {
       usable[a] = extent > 0.0f && std::isfinite(scale) && scale > 0.0f;
       k[a] = usable[a] ? scale : 0.0f;
     }
+    vcmin = _mm_setr_ps(cmin[0], cmin[1], cmin[2], 0.0f);
+    vk = _mm_setr_ps(k[0], k[1], k[2], 0.0f);
+    vlast = _mm_set1_ps(static_cast<float>(bins - 1));
   }
   bool any_usable() const { return usable[0] || usable[1] || usable[2]; }
   int bin(float c, int axis) const {
     const int i = static_cast<int>((c - cmin[axis]) * k[axis]);
     return std::min(std::max(i, 0), bins - 1);
   }
+  // bin() of the three lanes of centre c at once (an unusable axis gives 0).
+  // Clamping before the truncation gives bin()'s result (NaN: max gives 0).
+  __m128i bins_of(__m128 c) const {
+    const __m128 x = _mm_mul_ps(_mm_sub_ps(c, vcmin), vk);
+    return _mm_cvttps_epi32(_mm_min_ps(_mm_max_ps(x, _mm_setzero_ps()), vlast));
+  }
 };
 
 // bins[axis * bin_count + b]: box and primitive count of bin b on that axis.
-// Boxes are kept as 4-wide lo/hi vectors (SSE min/max per primitive).
+// Boxes are kept as lo and -hi vectors, so that extending one is a single
+// (AVX: 8-wide) min; negation is exact, so the bits are those of lo/hi.
 struct Bins {
-  struct alignas(16) Box {
-    __m128 lo, hi;
+  struct alignas(32) Box {
+    __m128 lo, nhi;  // min.xyz, -max.xyz
   };
   int bin_count = 0;
   std::vector<Box> boxes;
   std::vector<uint32_t> counts;
 
+  // Room for n bins per axis, all in use until reset(count) picks fewer.
   explicit Bins(int n = 0) : bin_count(n), boxes(3 * size_t(n)), counts(3 * size_t(n), 0) {
-    reset();
+    reset(n);
   }
-  void reset() {
-    const Box empty{_mm_set1_ps(std::numeric_limits<float>::infinity()),
-                    _mm_set1_ps(-std::numeric_limits<float>::infinity())};
-    std::fill(boxes.begin(), boxes.end(), empty);
-    std::fill(counts.begin(), counts.end(), 0u);
+  void reset(int count) {
+    bin_count = count;
+    std::fill_n(boxes.begin(), 3 * size_t(count), empty_box());
+    std::fill_n(counts.begin(), 3 * size_t(count), 0u);
   }
   static Box empty_box() {
-    return {_mm_set1_ps(std::numeric_limits<float>::infinity()),
-            _mm_set1_ps(-std::numeric_limits<float>::infinity())};
+    const __m128 inf = _mm_set1_ps(std::numeric_limits<float>::infinity());
+    return {inf, inf};
   }
-  static AABB to_aabb(const Box& b) {
-    alignas(16) float lo[4], hi[4];
-    _mm_store_ps(lo, b.lo);
-    _mm_store_ps(hi, b.hi);
-    return AABB({lo[0], lo[1], lo[2]}, {hi[0], hi[1], hi[2]});
+  static __m128 neg(__m128 v) { return _mm_xor_ps(v, _mm_set1_ps(-0.0f)); }
+  static AABB to_aabb(const Box& b) { return vec_to_aabb(b.lo, neg(b.nhi)); }
+  static float half_area(const Box& b) { return vec_half_area(b.lo, neg(b.nhi)); }
+  static void extend(Box& d, const Box& b) {
+    d.lo = _mm_min_ps(d.lo, b.lo);
+    d.nhi = _mm_min_ps(d.nhi, b.nhi);
   }
   AABB box(size_t i) const { return to_aabb(boxes[i]); }
-  // An AABB as lo/hi vectors. Both loads stay inside the 24-byte box: lanes
-  // min.xyz and (min.z, max.xyz) shuffled to max.xyz.
-  static Box load_box(const AABB& b) {
-    const __m128 hi = _mm_loadu_ps(&b.min.z);
-    return {_mm_loadu_ps(&b.min.x), _mm_shuffle_ps(hi, hi, _MM_SHUFFLE(3, 3, 2, 1))};
-  }
-  // Adds one primitive (box b, centroid c) to its bin on every usable axis.
-  void add(const BinMapping& m, const AABB& b, const Vec3f& c) {
-    // Both loads stay inside the 24-byte box: lanes min.xyz and (min.z, max.xyz).
-    const __m128 lo = _mm_loadu_ps(&b.min.x);
-    const __m128 hi =
-        _mm_shuffle_ps(_mm_loadu_ps(&b.min.z), _mm_loadu_ps(&b.min.z), _MM_SHUFFLE(3, 3, 2, 1));
+  // Adds one primitive to its bin on every axis (unusable axes: bin 0, never read).
+  void add(const BinMapping& m, const BoxRef& r) {
+    alignas(16) int idx[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(r.center()));
     const int n = bin_count;
-    if (m.usable[0]) extend(m.bin(c.x, 0), lo, hi);
-    if (m.usable[1]) extend(n + m.bin(c.y, 1), lo, hi);
-    if (m.usable[2]) extend(2 * n + m.bin(c.z, 2), lo, hi);
+    const Box rb{r.lo, neg(r.hi)};
+    for (int a = 0; a < 3; ++a) {
+      extend(boxes[size_t(a * n + idx[a])], rb);
+      ++counts[size_t(a * n + idx[a])];
+    }
+  }
+  // The same for a box b whose centre is c (c == b.center()).
+  void add(const BinMapping& m, const AABB& b, const Vec3f& c) {
+    (void)c;
+    add(m, make_box_ref(b, 0));
   }
   void merge(const Bins& o) {
-    for (size_t i = 0; i < boxes.size(); ++i) {
-      boxes[i].lo = _mm_min_ps(boxes[i].lo, o.boxes[i].lo);
-      boxes[i].hi = _mm_max_ps(boxes[i].hi, o.boxes[i].hi);
+    for (size_t i = 0; i < 3 * size_t(bin_count); ++i) {
+      extend(boxes[i], o.boxes[i]);
       counts[i] += o.counts[i];
     }
   }
-
- private:
-  void extend(int i, __m128 lo, __m128 hi) {
-    boxes[i].lo = _mm_min_ps(boxes[i].lo, lo);
-    boxes[i].hi = _mm_max_ps(boxes[i].hi, hi);
-    ++counts[i];
-  }
 };
+
+// Adds refs[0, n) to `bins` (reset to m.bins bins). From kTwoBinSetsMin on,
+// alternate primitives go through `spare` (merged at the end) so that runs of
+// primitives in the same bin do not each wait for the previous update.
+inline constexpr size_t kTwoBinSetsMin = 128;
+
+inline void bin_refs(const BinMapping& m, const BoxRef* refs, size_t n, Bins& bins, Bins& spare) {
+  bins.reset(m.bins);
+  const size_t stride = size_t(m.bins);
+  auto add = [&](Bins::Box* box, uint32_t* cnt, const BoxRef& r) {
+    alignas(16) int idx[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(r.center()));
+#if defined(__AVX__)
+    const __m256 rb = _mm256_insertf128_ps(_mm256_castps128_ps256(r.lo), Bins::neg(r.hi), 1);
+    for (size_t a = 0; a < 3; ++a) {
+      float* b = reinterpret_cast<float*>(&box[a * stride + size_t(idx[a])]);
+      _mm256_store_ps(b, _mm256_min_ps(_mm256_load_ps(b), rb));
+      ++cnt[a * stride + size_t(idx[a])];
+    }
+#else
+    const Bins::Box rb{r.lo, Bins::neg(r.hi)};
+    for (size_t a = 0; a < 3; ++a) {
+      Bins::extend(box[a * stride + size_t(idx[a])], rb);
+      ++cnt[a * stride + size_t(idx[a])];
+    }
+#endif
+  };
+  Bins::Box* box0 = bins.boxes.data();
+  uint32_t* cnt0 = bins.counts.data();
+  if (n < kTwoBinSetsMin) {
+    for (size_t i = 0; i < n; ++i) add(box0, cnt0, refs[i]);
+    return;
+  }
+  spare.reset(m.bins);
+  Bins::Box* box1 = spare.boxes.data();
+  uint32_t* cnt1 = spare.counts.data();
+  size_t i = 0;
+  for (; i + 1 < n; i += 2) {
+    add(box0, cnt0, refs[i]);
+    add(box1, cnt1, refs[i + 1]);
+  }
+  if (i < n) add(box0, cnt0, refs[i]);
+  bins.merge(spare);
+}
+
+// Bins per axis for a node of n primitives: at most max_bins, fewer for small
+// nodes (4 + n / 20, as Embree's binned builders).
+inline int bins_for(size_t n, int max_bins) {
+  return static_cast<int>(std::min(static_cast<size_t>(max_bins), 4 + n / 20));
+}
 
 // The best binned cut: left = bins [0, cut] on `axis`. axis < 0: none found.
 struct BinnedSplit {
@@ -134,26 +189,23 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
     Bins::Box acc = Bins::empty_box();
     uint32_t acc_n = 0;
     for (int b = n - 1; b > 0; --b) {  // suffix: bins [b, n)
-      acc.lo = _mm_min_ps(acc.lo, box[b].lo);
-      acc.hi = _mm_max_ps(acc.hi, box[b].hi);
+      Bins::extend(acc, box[b]);
       acc_n += cnt[b];
       // An empty bin leaves the suffix box as it was: reuse its area.
-      scratch_area[b] =
-          cnt[b] ? Bins::to_aabb(acc).half_area() : (b + 1 < n ? scratch_area[b + 1] : 0.0f);
+      scratch_area[b] = cnt[b] ? Bins::half_area(acc) : (b + 1 < n ? scratch_area[b + 1] : 0.0f);
       scratch_count[b] = acc_n;
     }
     Bins::Box left = Bins::empty_box();
     uint32_t left_n = 0;
     for (int c = 0; c < n - 1; ++c) {  // cut after bin c
-      left.lo = _mm_min_ps(left.lo, box[c].lo);
-      left.hi = _mm_max_ps(left.hi, box[c].hi);
+      Bins::extend(left, box[c]);
       left_n += cnt[c];
       const uint32_t right_n = scratch_count[c + 1];
       if (left_n == 0 || right_n == 0) continue;
       // A run of empty bins prices the same cut as the occupied bin before it
       // (and ties keep the lowest cut), so only cuts after occupied bins count.
       if (cnt[c] == 0) continue;
-      const float cost = sah_split_cost(sah, parent_area, Bins::to_aabb(left).half_area(), left_n,
+      const float cost = sah_split_cost(sah, parent_area, Bins::half_area(left), left_n,
                                         scratch_area[c + 1], right_n);
       if (cost < best.cost) {
         best.axis = a;
@@ -172,7 +224,7 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
   return best;
 }
 
-// The same result as binning ids[0, n) and calling find_binned_split, bit for
+// The same result as binning refs[0, n) and calling find_binned_split, bit for
 // bit, without touching bins: per axis, sort the primitives by bin and price
 // only the cuts right after an occupied bin (a cut inside a run of empty bins
 // prices the same sets, and ties keep the lowest cut, which is that one).
@@ -180,20 +232,17 @@ inline BinnedSplit find_binned_split(const Bins& bins, const BinMapping& m, cons
 inline constexpr size_t kSmallNodeMax = 32;
 inline constexpr int kCountingSortBins = 64;  // counting sort by bin up to this many bins
 
-inline BinnedSplit find_binned_split_small(const AABB* prim_bounds, const Vec3f* centroids,
-                                           const uint32_t* ids, size_t n, const BinMapping& m,
+inline BinnedSplit find_binned_split_small(const BoxRef* refs, size_t n, const BinMapping& m,
                                            const SahParams& sah, float parent_area) {
   static_assert(kSmallNodeMax <= 32, "sort keys keep the local index in 5 bits");
   BinnedSplit best;
-  // One gather per primitive (box as SSE lo/hi, bin per axis); the three axes
-  // then work on these local copies only.
-  Bins::Box box[kSmallNodeMax];
+  // Bin per axis of every primitive; the three axes then work on these.
+  const BoxRef* box = refs;
   uint16_t bin[3][kSmallNodeMax];
   for (size_t i = 0; i < n; ++i) {
-    const uint32_t id = ids[i];
-    box[i] = Bins::load_box(prim_bounds[id]);
-    const Vec3f& c = centroids[id];
-    for (int a = 0; a < 3; ++a) bin[a][i] = static_cast<uint16_t>(m.usable[a] ? m.bin(c[a], a) : 0);
+    alignas(16) int idx[4];
+    _mm_store_si128(reinterpret_cast<__m128i*>(idx), m.bins_of(refs[i].center()));
+    for (int a = 0; a < 3; ++a) bin[a][i] = static_cast<uint16_t>(idx[a]);
   }
   float right_area[kSmallNodeMax];
   for (int a = 0; a < 3; ++a) {
@@ -216,21 +265,19 @@ inline BinnedSplit find_binned_split_small(const AABB* prim_bounds, const Vec3f*
       }
     }
     // Suffix areas, needed only where a new bin starts (keys[i] begins a bin).
-    Bins::Box acc = Bins::empty_box();
+    VecBox acc;
     for (size_t i = n - 1; i > 0; --i) {
-      const Bins::Box& b = box[keys[i] & 31];
-      acc.lo = _mm_min_ps(acc.lo, b.lo);
-      acc.hi = _mm_max_ps(acc.hi, b.hi);
-      if ((keys[i] >> 5) != (keys[i - 1] >> 5)) right_area[i] = Bins::to_aabb(acc).half_area();
+      const BoxRef& b = box[keys[i] & 31];
+      acc.extend(b.lo, b.hi);
+      if ((keys[i] >> 5) != (keys[i - 1] >> 5)) right_area[i] = vec_half_area(acc.lo, acc.hi);
     }
-    Bins::Box left = Bins::empty_box();
+    VecBox left;
     for (size_t i = 0; i + 1 < n; ++i) {
-      const Bins::Box& b = box[keys[i] & 31];
-      left.lo = _mm_min_ps(left.lo, b.lo);
-      left.hi = _mm_max_ps(left.hi, b.hi);
+      const BoxRef& b = box[keys[i] & 31];
+      left.extend(b.lo, b.hi);
       const int cut = keys[i] >> 5;
       if ((keys[i + 1] >> 5) == cut) continue;  // not the end of an occupied bin
-      const float cost = sah_split_cost(sah, parent_area, Bins::to_aabb(left).half_area(),
+      const float cost = sah_split_cost(sah, parent_area, vec_half_area(left.lo, left.hi),
                                         static_cast<uint32_t>(i + 1), right_area[i + 1],
                                         static_cast<uint32_t>(n - i - 1));
       if (cost < best.cost) {
@@ -243,14 +290,11 @@ inline BinnedSplit find_binned_split_small(const AABB* prim_bounds, const Vec3f*
     }
   }
   if (best.axis >= 0) {
-    Bins::Box l = Bins::empty_box(), r = Bins::empty_box();
-    for (size_t i = 0; i < n; ++i) {
-      Bins::Box& d = bin[best.axis][i] <= best.cut ? l : r;
-      d.lo = _mm_min_ps(d.lo, box[i].lo);
-      d.hi = _mm_max_ps(d.hi, box[i].hi);
-    }
-    best.left_bounds = Bins::to_aabb(l);
-    best.right_bounds = Bins::to_aabb(r);
+    VecBox l, r;
+    for (size_t i = 0; i < n; ++i)
+      (bin[best.axis][i] <= best.cut ? l : r).extend(box[i].lo, box[i].hi);
+    best.left_bounds = l.aabb();
+    best.right_bounds = r.aabb();
   }
   return best;
 }

@@ -20,7 +20,7 @@ struct SahParams {
 
 struct BuildOptions {
   BuilderKind builder = BuilderKind::kParallel;
-  int bins = 32;
+  int bins = 32;  // per axis; nodes under 20 * (bins - 4) primitives use fewer (bins_for)
   int max_leaf_size = 4;
   SahParams sah;
   // Below this many primitives the parallel builder works sequentially; a

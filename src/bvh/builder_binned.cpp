@@ -1,105 +1,81 @@
-// Binned SAH builder (Algorithm 3; Wald 2007): options.bins bins per axis over
-// the node's centroid bounds, bins-1 cuts per axis from prefix/suffix sweeps,
-// stable in-place partition. Sequential; build_parallel reproduces it exactly.
+// Binned SAH builder (Algorithm 3; Wald 2007): per axis, bins_for(n) (at most
+// options.bins) bins over the node's centroid bounds, bins-1 cuts from
+// prefix/suffix sweeps, stable partition between two reference arrays.
+// Sequential; build_parallel reproduces it exactly.
 #include <algorithm>
-#include <numeric>
+#include <memory>
+#include <stdexcept>
 #include <tuple>
 
 #include "bvh/binned_subtree.h"
 #include "bvh/builder_common.h"
 #include "bvh/builders.h"
+#include "bvh/huge_buffer.h"
+#include "bvh/scatter_refs.h"
 
 namespace hprt {
 
-BinnedSubtreeBuilder::BinnedSubtreeBuilder(const PrimInfo& prims, const BuildOptions& options,
-                                           uint32_t* order, uint32_t* temp)
-    : prims_(prims), options_(options), order_(order), temp_(temp), bins_(options.bins) {}
+BinnedSubtreeBuilder::BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* refs0,
+                                           BoxRef* refs1, uint32_t* order)
+    : options_(options),
+      refs_{refs0, refs1},
+      order_(order),
+      bins_(options.bins),
+      spare_(options.bins) {}
 
-void BinnedSubtreeBuilder::build(size_t begin, size_t end, int depth, const AABB& bounds,
+void BinnedSubtreeBuilder::build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
                                  const AABB& centroid_bounds, std::vector<BuildNode>& out) {
-  recurse(begin, end, depth, bounds, centroid_bounds, out.size(), out);
+  out_ = &out;
+  base_ = out.size();
+  recurse(begin, end, side, depth, bounds, centroid_bounds);
 }
 
-namespace {
-
-// Stable partition of order[begin, end) by the chosen cut; rights go through
-// temp[begin, end) (disjoint ranges: parallel subtrees share the arrays).
-// Returns the split index and the children's centroid bounds.
-template <int A>
-size_t partition_axis(const PrimInfo& prims, const BinMapping& m, int cut, uint32_t* order,
-                      uint32_t* temp, size_t begin, size_t end, AABB& lc, AABB& rc) {
-  const Vec3f* cen = prims.centroids.data();
-  size_t w = begin, t = begin;
-  for (size_t i = begin; i < end; ++i) {
-    const uint32_t id = order[i];
-    const Vec3f& c = cen[id];
-    const float v = A == 0 ? c.x : (A == 1 ? c.y : c.z);
-    if (m.bin(v, A) <= cut) {
-      order[w++] = id;
-      lc.extend(c);
-    } else {
-      temp[t++] = id;
-      rc.extend(c);
-    }
-  }
-  std::copy(temp + begin, temp + t, order + w);
-  return w;
-}
-
-}  // namespace
-
-void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int depth, const AABB& bounds,
-                                   const AABB& cbounds, size_t base, std::vector<BuildNode>& out) {
+void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int side, int depth,
+                                   const AABB& bounds, const AABB& cbounds) {
   const size_t n = end - begin;
-  const BinMapping m(cbounds, options_.bins);
+  const BoxRef* src = refs_[side] + begin;
+  const BinMapping m(cbounds, bins_for(n, options_.bins));
   SplitKind kind = decide_before_binning(n, depth, options_.max_leaf_size, m);
+  if (kind == SplitKind::kSah && leaf_before_binning(src, n, bounds.half_area(), options_))
+    kind = SplitKind::kLeaf;
   BinnedSplit split;
-  if (kind == SplitKind::kSah && n <= kSmallNodeMax && n <= static_cast<size_t>(options_.bins)) {
-    split = find_binned_split_small(prims_.bounds.data(), prims_.centroids.data(), order_ + begin,
-                                    n, m, options_.sah, bounds.half_area());
+  if (kind == SplitKind::kSah && n <= kSmallNodeMax && n <= static_cast<size_t>(m.bins)) {
+    split = find_binned_split_small(src, n, m, options_.sah, bounds.half_area());
     kind = decide_after_binning(split, n, bounds.half_area(), options_);
   } else if (kind == SplitKind::kSah) {
-    bins_.reset();
-    const AABB* bx = prims_.bounds.data();
-    const Vec3f* cen = prims_.centroids.data();
-    for (size_t i = begin; i < end; ++i) {
-      const uint32_t id = order_[i];
-      bins_.add(m, bx[id], cen[id]);
-    }
+    bin_refs(m, src, n, bins_, spare_);
     split = find_binned_split(bins_, m, options_.sah, bounds.half_area(), scratch_area_,
                               scratch_count_);
     kind = decide_after_binning(split, n, bounds.half_area(), options_);
   }
   if (kind == SplitKind::kLeaf) {
-    out.push_back(make_leaf(bounds, begin, n));
+    out_->push_back(make_ref_leaf(bounds, refs_[side], order_, begin, end));
     return;
   }
   size_t mid;
+  int child_side = side;
   AABB lb, rb, lc, rc;
   if (kind == SplitKind::kSah) {
-    switch (split.axis) {
-      case 0:
-        mid = partition_axis<0>(prims_, m, split.cut, order_, temp_, begin, end, lc, rc);
-        break;
-      case 1:
-        mid = partition_axis<1>(prims_, m, split.cut, order_, temp_, begin, end, lc, rc);
-        break;
-      default:
-        mid = partition_axis<2>(prims_, m, split.cut, order_, temp_, begin, end, lc, rc);
-        break;
-    }
+    mid = begin + split.left_count;
+    child_side = 1 - side;
+    BoxRef* dst = refs_[child_side];
+    VecBox l, r;
+    const size_t nl = scatter_refs(split.axis, m, split.cut, src, n, dst + begin, dst + mid, l, r);
+    if (nl != split.left_count) throw std::logic_error("binned build: partition disagrees");
+    lc = l.aabb();
+    rc = r.aabb();
     lb = split.left_bounds;
     rb = split.right_bounds;
   } else {  // object median of the (ascending) range
     mid = begin + n / 2;
-    std::tie(lb, lc) = range_bounds(prims_, order_ + begin, mid - begin);
-    std::tie(rb, rc) = range_bounds(prims_, order_ + mid, end - mid);
+    std::tie(lb, lc) = ref_bounds(src, mid - begin);
+    std::tie(rb, rc) = ref_bounds(src + (mid - begin), end - mid);
   }
-  const size_t me = out.size();
-  out.push_back(make_inner(bounds));
-  recurse(begin, mid, depth + 1, lb, lc, base, out);
-  out[me].right = static_cast<uint32_t>(out.size() - base);
-  recurse(mid, end, depth + 1, rb, rc, base, out);
+  const size_t me = out_->size();
+  out_->push_back(make_inner(bounds));
+  recurse(begin, mid, child_side, depth + 1, lb, lc);
+  (*out_)[me].right = static_cast<uint32_t>(out_->size() - base_);
+  recurse(mid, end, child_side, depth + 1, rb, rc);
 }
 
 BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
@@ -107,13 +83,17 @@ BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
   BuildTree tree;
   const size_t n = prims.size();
   if (n == 0) return tree;
+  const auto refs = make_huge_buffer<BoxRef>(n);
+  const auto temp = make_huge_buffer<BoxRef>(n);
+  fill_box_refs(prims, refs.get(), 0, n);
+  const auto [bounds, cbounds] = ref_bounds(refs.get(), n);
+  tree.prim_order.reserve(n);
+  advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
   tree.prim_order.resize(n);
-  std::iota(tree.prim_order.begin(), tree.prim_order.end(), 0u);
-  std::vector<uint32_t> temp(n);
-  const auto [bounds, cbounds] = range_bounds(prims, tree.prim_order.data(), n);
   tree.nodes.reserve(2 * n - 1);
-  BinnedSubtreeBuilder builder(prims, options, tree.prim_order.data(), temp.data());
-  builder.build(0, n, 1, bounds, cbounds, tree.nodes);
+  advise_huge_pages(tree.nodes.data(), (2 * n - 1) * sizeof(BuildNode));
+  BinnedSubtreeBuilder builder(options, refs.get(), temp.get(), tree.prim_order.data());
+  builder.build(0, n, 0, 1, bounds, cbounds, tree.nodes);
   return tree;
 }
 

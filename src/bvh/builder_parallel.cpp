@@ -1,24 +1,29 @@
 // Parallel binned SAH builder (Algorithm 5, oneTBB). Nodes with at least
 // options.parallel_cutoff primitives bin in parallel (per-range bins merged
 // with min/max and integer adds: exact) and partition in parallel (per-chunk
-// counts, prefix sums, order-preserving scatter = std::stable_partition);
+// counts, prefix sums, order-preserving scatter = std::stable_partition, into the other of two
+// reference arrays);
 // their children are built as parallel tasks, each below the cut-off by the
 // sequential binned code into its own node vector, and everything is stitched
 // in canonical preorder from subtree sizes. Equals build_binned bit for bit
 // for any thread count.
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
+#include <atomic>
 #include <memory>
-#include <numeric>
+#include <stdexcept>
 #include <utility>
 
 #include "bvh/binned_subtree.h"
 #include "bvh/builder_common.h"
 #include "bvh/builders.h"
+#include "bvh/huge_buffer.h"
+#include "bvh/scatter_refs.h"
 
 namespace hprt {
 
@@ -30,8 +35,9 @@ constexpr size_t kChunk = 8192;  // fixed work unit: never depends on the thread
 struct Part {
   BuildNode node;
   std::unique_ptr<Part> left, right;
-  std::vector<BuildNode> subtree;  // non-empty: this part is a finished subtree
-  size_t total = 0;                // nodes in this part
+  const BuildNode* subtree = nullptr;  // non-null: this part is a finished subtree
+  size_t subtree_size = 0;
+  size_t total = 0;  // nodes in this part
 };
 
 struct BoundsPair {
@@ -40,14 +46,17 @@ struct BoundsPair {
 
 class ParallelBuilder {
  public:
-  ParallelBuilder(const PrimInfo& prims, const BuildOptions& o, uint32_t* order, uint32_t* temp)
-      : prims_(prims), o_(o), order_(order), temp_(temp) {}
+  // refs: the two reference arrays (see BinnedSubtreeBuilder); order:
+  // prim_order; scratch: room for 2 * n - 1 nodes, where subtrees are kept.
+  ParallelBuilder(const BuildOptions& o, BoxRef* refs0, BoxRef* refs1, uint32_t* order,
+                  BuildNode* scratch)
+      : o_(o), refs_{refs0, refs1}, order_(order), scratch_(scratch) {}
 
-  BoundsPair bounds_of(size_t begin, size_t end) const {
+  BoundsPair bounds_of(size_t begin, size_t end, int side) const {
     return tbb::parallel_reduce(
         tbb::blocked_range<size_t>(begin, end, kChunk), BoundsPair{},
         [&](const tbb::blocked_range<size_t>& r, BoundsPair acc) {
-          const auto [b, c] = range_bounds(prims_, order_ + r.begin(), r.size());
+          const auto [b, c] = ref_bounds(refs_[side] + r.begin(), r.size());
           acc.b.extend(b);
           acc.c.extend(c);
           return acc;
@@ -59,56 +68,74 @@ class ParallelBuilder {
         });
   }
 
-  std::unique_ptr<Part> build(size_t begin, size_t end, int depth, const AABB& bounds,
+  std::unique_ptr<Part> build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
                               const AABB& cbounds) {
     auto part = std::make_unique<Part>();
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff)) {
-      part->subtree.reserve(2 * n - 1);
-      BinnedSubtreeBuilder seq(prims_, o_, order_, temp_);
-      seq.build(begin, end, depth, bounds, cbounds, part->subtree);
-      part->total = part->subtree.size();
+      // Built in this thread's buffer, then packed into the shared scratch
+      // (only the touched part of it gets memory).
+      std::vector<BuildNode>& local = local_nodes_.local();
+      local.clear();
+      BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
+      seq.build(begin, end, side, depth, bounds, cbounds, local);
+      const size_t count = local.size();
+      BuildNode* out = scratch_ + scratch_used_.fetch_add(count);
+      std::copy(local.data(), local.data() + count, out);
+      part->subtree = out;
+      part->subtree_size = count;
+      part->total = count;
       return part;
     }
-    const BinMapping m(cbounds, o_.bins);
+    const BoxRef* src = refs_[side] + begin;
+    const BinMapping m(cbounds, bins_for(n, o_.bins));
     SplitKind kind = decide_before_binning(n, depth, o_.max_leaf_size, m);
+    if (kind == SplitKind::kSah && leaf_before_binning(src, n, bounds.half_area(), o_))
+      kind = SplitKind::kLeaf;
     BinnedSplit split;
+    Bins bins;
+    std::vector<Bins> chunk_bins;
     if (kind == SplitKind::kSah) {
-      const Bins bins = parallel_bins(begin, end, m);
+      bins = parallel_bins(src, n, m, chunk_bins);
       std::vector<float> sa;
       std::vector<uint32_t> sc;
       split = find_binned_split(bins, m, o_.sah, bounds.half_area(), sa, sc);
       kind = decide_after_binning(split, n, bounds.half_area(), o_);
     }
     if (kind == SplitKind::kLeaf) {
-      part->node = make_leaf(bounds, begin, n);
+      part->node = make_ref_leaf(bounds, refs_[side], order_, begin, end);
       part->total = 1;
       return part;
     }
     size_t mid;
+    int child_side = side;
     AABB lb, rb, lc, rc;
     if (kind == SplitKind::kSah) {
-      mid = parallel_partition(begin, end, m, split.axis, split.cut, lc, rc);
+      mid = begin + split.left_count;
+      child_side = 1 - side;
+      parallel_partition(src, n, refs_[child_side] + begin, split, m, chunk_bins, lc, rc);
+      chunk_bins = {};
       lb = split.left_bounds;
       rb = split.right_bounds;
     } else {  // object median of the (ascending) range, as in build_binned
       mid = begin + n / 2;
       BoundsPair l, r;
-      tbb::parallel_invoke([&] { l = bounds_of(begin, mid); }, [&] { r = bounds_of(mid, end); });
+      tbb::parallel_invoke([&] { l = bounds_of(begin, mid, side); },
+                           [&] { r = bounds_of(mid, end, side); });
       lb = l.b, lc = l.c, rb = r.b, rc = r.c;
     }
     part->node = make_inner(bounds);
-    tbb::parallel_invoke([&] { part->left = build(begin, mid, depth + 1, lb, lc); },
-                         [&] { part->right = build(mid, end, depth + 1, rb, rc); });
+    tbb::parallel_invoke([&] { part->left = build(begin, mid, child_side, depth + 1, lb, lc); },
+                         [&] { part->right = build(mid, end, child_side, depth + 1, rb, rc); });
     part->total = 1 + part->left->total + part->right->total;
     return part;
   }
 
   // Writes `part` into out[offset, offset + part.total) in canonical preorder.
   static void place(const Part& part, size_t offset, BuildNode* out) {
-    if (!part.subtree.empty()) {
+    if (part.subtree) {
       const uint32_t off = static_cast<uint32_t>(offset);
-      for (size_t i = 0; i < part.subtree.size(); ++i) {
+      for (size_t i = 0; i < part.subtree_size; ++i) {
         BuildNode nd = part.subtree[i];
         if (!nd.is_leaf()) nd.right += off;
         out[offset + i] = nd;
@@ -124,84 +151,61 @@ class ParallelBuilder {
   }
 
  private:
-  Bins parallel_bins(size_t begin, size_t end, const BinMapping& m) const {
-    const AABB* bx = prims_.bounds.data();
-    const Vec3f* cen = prims_.centroids.data();
-    return tbb::parallel_reduce(
-        tbb::blocked_range<size_t>(begin, end, kChunk), Bins(o_.bins),
-        [&](const tbb::blocked_range<size_t>& r, Bins acc) {
-          for (size_t i = r.begin(); i < r.end(); ++i) {
-            const uint32_t id = order_[i];
-            acc.add(m, bx[id], cen[id]);
-          }
-          return acc;
-        },
-        [](Bins x, const Bins& y) {
-          x.merge(y);
-          return x;
-        });
+  // Bins of every kChunk-sized chunk of src[0, n) (kept: the partition takes
+  // its per-chunk left counts from them) and their merge (exact in any order).
+  static Bins parallel_bins(const BoxRef* src, size_t n, const BinMapping& m,
+                            std::vector<Bins>& chunk_bins) {
+    const size_t chunks = (n + kChunk - 1) / kChunk;
+    chunk_bins.assign(chunks, Bins(m.bins));
+    tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+      const size_t b = c * kChunk, e = std::min(n, b + kChunk);
+      Bins spare(m.bins);
+      bin_refs(m, src + b, e - b, chunk_bins[c], spare);
+    });
+    Bins all(m.bins);
+    for (const Bins& cb : chunk_bins) all.merge(cb);
+    return all;
   }
 
-  // Parallel stable partition of order_[begin, end): per-chunk left counts,
-  // exclusive prefix sums, order-preserving scatter into temp_, copy back.
-  size_t parallel_partition(size_t begin, size_t end, const BinMapping& m, int axis, int cut,
-                            AABB& lc, AABB& rc) {
-    const size_t n = end - begin;
-    const size_t chunks = (n + kChunk - 1) / kChunk;
-    std::vector<size_t> lefts(chunks);
-    std::vector<AABB> lcb(chunks), rcb(chunks);
-    const Vec3f* cen = prims_.centroids.data();
-    tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
-      const size_t b = begin + c * kChunk, e = std::min(end, b + kChunk);
-      size_t k = 0;
-      for (size_t i = b; i < e; ++i) k += goes_left(m, axis, cut, cen[order_[i]]) ? 1 : 0;
-      lefts[c] = k;
-    });
-    std::vector<size_t> loff(chunks), roff(chunks);
+  // Parallel stable partition of src[0, n) into dst[0, n): per-chunk left
+  // counts from the chunks' bins, exclusive prefix sums, order-preserving
+  // scatter of every chunk.
+  static void parallel_partition(const BoxRef* src, size_t n, BoxRef* dst, const BinnedSplit& s,
+                                 const BinMapping& m, const std::vector<Bins>& chunk_bins, AABB& lc,
+                                 AABB& rc) {
+    const size_t chunks = chunk_bins.size();
+    std::vector<size_t> lefts(chunks, 0), loff(chunks), roff(chunks);
     size_t nl = 0, nr = 0;
     for (size_t c = 0; c < chunks; ++c) {
       const size_t b = c * kChunk, e = std::min(n, b + kChunk);
+      const uint32_t* cnt = &chunk_bins[c].counts[size_t(s.axis) * size_t(m.bins)];
+      for (int k = 0; k <= s.cut; ++k) lefts[c] += cnt[k];
       loff[c] = nl;
       roff[c] = nr;
       nl += lefts[c];
       nr += (e - b) - lefts[c];
     }
+    if (nl != s.left_count) throw std::logic_error("parallel build: partition disagrees");
+    std::vector<VecBox> lcb(chunks), rcb(chunks);
     tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
-      const size_t b = begin + c * kChunk, e = std::min(end, b + kChunk);
-      uint32_t* lw = temp_ + begin + loff[c];
-      uint32_t* rw = temp_ + begin + nl + roff[c];
-      AABB l, r;
-      for (size_t i = b; i < e; ++i) {
-        const uint32_t id = order_[i];
-        const Vec3f& cc = cen[id];
-        if (goes_left(m, axis, cut, cc)) {
-          *lw++ = id;
-          l.extend(cc);
-        } else {
-          *rw++ = id;
-          r.extend(cc);
-        }
-      }
-      lcb[c] = l;
-      rcb[c] = r;
+      const size_t b = c * kChunk, e = std::min(n, b + kChunk);
+      if (scatter_refs(s.axis, m, s.cut, src + b, e - b, dst + loff[c], dst + nl + roff[c], lcb[c],
+                       rcb[c]) != lefts[c])
+        throw std::logic_error("parallel build: partition disagrees");
     });
-    tbb::parallel_for(tbb::blocked_range<size_t>(begin, end, kChunk),
-                      [&](const tbb::blocked_range<size_t>& r) {
-                        std::copy(temp_ + r.begin(), temp_ + r.end(), order_ + r.begin());
-                      });
     for (size_t c = 0; c < chunks; ++c) {
-      lc.extend(lcb[c]);
-      rc.extend(rcb[c]);
+      lc.extend(lcb[c].aabb());
+      rc.extend(rcb[c].aabb());
     }
-    return begin + nl;
   }
 
-  const PrimInfo& prims_;
   const BuildOptions& o_;
+  BoxRef* refs_[2];
   uint32_t* order_;
-  uint32_t* temp_;
+  BuildNode* scratch_;
+  std::atomic<size_t> scratch_used_{0};
+  tbb::enumerable_thread_specific<std::vector<BuildNode>> local_nodes_;
 };
-
 }  // namespace
 
 BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
@@ -209,16 +213,21 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   BuildTree tree;
   const size_t n = prims.size();
   if (n == 0) return tree;
-  tree.prim_order.resize(n);
-  std::vector<uint32_t> temp(n);
+  const auto refs = make_huge_buffer<BoxRef>(n);
+  const auto temp = make_huge_buffer<BoxRef>(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
                     [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i < r.end(); ++i)
-                        tree.prim_order[i] = static_cast<uint32_t>(i);
+                      fill_box_refs(prims, refs.get(), r.begin(), r.end());
                     });
-  ParallelBuilder b(prims, options, tree.prim_order.data(), temp.data());
-  const BoundsPair root = b.bounds_of(0, n);
-  const std::unique_ptr<Part> top = b.build(0, n, 1, root.b, root.c);
+  tree.prim_order.reserve(n);
+  advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
+  tree.prim_order.resize(n);
+  const auto scratch = make_huge_buffer<BuildNode>(2 * n - 1);
+  ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data(), scratch.get());
+  const BoundsPair root = b.bounds_of(0, n, 0);
+  const std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
+  tree.nodes.reserve(top->total);
+  advise_huge_pages(tree.nodes.data(), top->total * sizeof(BuildNode));
   tree.nodes.resize(top->total);
   ParallelBuilder::place(*top, 0, tree.nodes.data());
   return tree;

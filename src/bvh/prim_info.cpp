@@ -3,6 +3,7 @@
 // processed in parallel over fixed-size chunks (count, prefix sum, fill), so
 // the result never depends on the thread count.
 #include "bvh/prim_info.h"
+#include "bvh/huge_buffer.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -56,6 +57,13 @@ PrimInfo make_prim_info(const Scene& scene) {
     all += ch.end - ch.begin;
   }
   info.invalid = all - total;
+  // Huge pages first: the resizes touch every page (tens of MB at 1M triangles).
+  info.bounds.reserve(total);
+  info.centroids.reserve(total);
+  info.refs.reserve(total);
+  advise_huge_pages(info.bounds.data(), total * sizeof(AABB));
+  advise_huge_pages(info.centroids.data(), total * sizeof(Vec3f));
+  advise_huge_pages(info.refs.data(), total * sizeof(PrimRef));
   info.bounds.resize(total);
   info.centroids.resize(total);
   info.refs.resize(total);

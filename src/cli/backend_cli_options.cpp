@@ -17,7 +17,8 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
   cmd.add_option("--builder", o.builder, "bvh: builder")
       ->check(CLI::IsMember({"sweep", "presorted", "binned", "parallel"}))
       ->capture_default_str();
-  cmd.add_option("--bins", o.options.build.bins, "bvh: bins per axis (binned, parallel)")
+  cmd.add_option("--bins", o.options.build.bins,
+                 "bvh: bins per axis (binned, parallel; small nodes use fewer)")
       ->check(CLI::Range(2, 1024))
       ->capture_default_str();
   cmd.add_option("--leaf-size", o.options.build.max_leaf_size, "bvh: most triangles in a leaf")
