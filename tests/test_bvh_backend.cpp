@@ -20,19 +20,23 @@ struct Answers {
   BuildInfo info;
 };
 
+Answers ask(const Intersector& isect, const std::vector<Ray>& rays) {
+  Answers a;
+  a.hits.resize(rays.size());
+  a.occluded.resize(rays.size());
+  isect.intersect(rays, a.hits);
+  isect.occluded(rays, a.occluded);
+  a.info = isect.info();
+  return a;
+}
+
 Answers run(const Scene& scene, const std::vector<Ray>& rays, BackendOptions o,
             const std::string& backend, int threads) {
   o.threads = threads;
   return run_with_threads(threads, [&] {
     auto isect = make_intersector(backend, o);
     isect->build(scene);
-    Answers a;
-    a.hits.resize(rays.size());
-    a.occluded.resize(rays.size());
-    isect->intersect(rays, a.hits);
-    isect->occluded(rays, a.occluded);
-    a.info = isect->info();
-    return a;
+    return ask(*isect, rays);
   });
 }
 
@@ -41,10 +45,12 @@ bool close_rel(float a, float b) {
 }
 
 void compare_with_embree(const Scene& scene, const std::vector<Ray>& rays, TriangleTestKind kind,
-                         BuilderKind builder) {
+                         BuilderKind builder, BvhLayout layout = BvhLayout::kBvh8) {
+  SCOPED_TRACE(to_string(layout));
   BackendOptions o;
   o.triangle_test = kind;
   o.build.builder = builder;
+  o.layout = layout;
   const Answers bvh = run(scene, rays, o, "bvh", 2);
   const Answers emb = run(scene, rays, o, "embree", 2);
   size_t hits = 0, ties = 0, mismatches = 0;
@@ -86,6 +92,10 @@ TEST(BvhBackend, AgreesWithEmbreeOnSoup) {
   const auto rays = test::random_rays(scene.bounds(), 10000, 17);
   compare_with_embree(scene, rays, TriangleTestKind::kWatertight, BuilderKind::kParallel);
   compare_with_embree(scene, rays, TriangleTestKind::kMoller, BuilderKind::kBinned);
+  compare_with_embree(scene, rays, TriangleTestKind::kWatertight, BuilderKind::kBinned,
+                      BvhLayout::kBvh2);
+  compare_with_embree(scene, rays, TriangleTestKind::kMoller, BuilderKind::kParallel,
+                      BvhLayout::kBvh4);
 }
 
 TEST(BvhBackend, AgreesWithEmbreeOnClosedSphere) {
@@ -95,6 +105,63 @@ TEST(BvhBackend, AgreesWithEmbreeOnClosedSphere) {
   rays.insert(rays.end(), more.begin(), more.end());
   compare_with_embree(scene, rays, TriangleTestKind::kWatertight, BuilderKind::kParallel);
   compare_with_embree(scene, rays, TriangleTestKind::kMoller, BuilderKind::kSweep);
+  compare_with_embree(scene, rays, TriangleTestKind::kWatertight, BuilderKind::kSweep,
+                      BvhLayout::kBvh4);
+  compare_with_embree(scene, rays, TriangleTestKind::kMoller, BuilderKind::kParallel,
+                      BvhLayout::kBvh2);
+}
+
+// The layout changes how the tree is stored, never what a ray hits: all three
+// give the same answers bit for bit, for both triangle tests, after a build
+// and after a refit of the deformed scene.
+TEST(BvhBackend, LayoutsAnswerIdentically) {
+  const Scene scene = scene_of({test::random_soup(20000, 9, 0.03f), test::icosphere(4)});
+  Scene moved = scene;
+  for (TriangleMesh& m : moved.meshes)
+    for (Vec3f& p : m.positions) p = p + Vec3f{0.1f * std::sin(7 * p.y), 0.0f, 0.05f * p.x};
+  auto rays = test::random_rays(scene.bounds(), 8000, 31);
+  const auto more = test::coherent_rays(scene.bounds(), 40, 40);
+  rays.insert(rays.end(), more.begin(), more.end());
+  for (TriangleTestKind kind : {TriangleTestKind::kWatertight, TriangleTestKind::kMoller}) {
+    std::vector<Answers> built, refitted;
+    for (BvhLayout layout : {BvhLayout::kBvh2, BvhLayout::kBvh4, BvhLayout::kBvh8}) {
+      BackendOptions o;
+      o.triangle_test = kind;
+      o.layout = layout;
+      o.update = UpdateStrategy::kRefit;
+      run_with_threads(2, [&] {
+        auto isect = make_intersector("bvh", o);
+        isect->build(scene);
+        built.push_back(ask(*isect, rays));
+        isect->update(moved);
+        refitted.push_back(ask(*isect, rays));
+        return 0;
+      });
+    }
+    const std::string name = "bvh/parallel/" + std::string(to_string(kind));
+    EXPECT_EQ(built[0].info.name, name + "/bvh2");
+    EXPECT_EQ(built[1].info.name, name + "/bvh4");
+    EXPECT_EQ(built[2].info.name, name);
+    for (const std::vector<Answers>* answers : {&built, &refitted}) {
+      const std::vector<Answers>& a = *answers;
+      for (size_t l = 1; l < a.size(); ++l) {
+        EXPECT_EQ(a[l].info.stats.tree_hash, a[0].info.stats.tree_hash);
+        EXPECT_NEAR(a[l].info.stats.sah_cost, a[0].info.stats.sah_cost,
+                    1e-9 * a[0].info.stats.sah_cost);
+        size_t differ = 0, hits = 0;
+        for (size_t i = 0; i < rays.size(); ++i) {
+          const Hit& x = a[0].hits[i];
+          const Hit& y = a[l].hits[i];
+          hits += x.hit();
+          differ += x.t != y.t || x.prim_id != y.prim_id || x.geom_id != y.geom_id || x.u != y.u ||
+                    x.v != y.v || a[0].occluded[i] != a[l].occluded[i];
+        }
+        EXPECT_EQ(differ, 0u) << to_string(kind) << " layout " << l;
+        EXPECT_GT(hits, rays.size() / 10);
+      }
+    }
+    EXPECT_FALSE(refitted[2].info.rebuilt);
+  }
 }
 
 TEST(BvhBackend, OneAndTwoThreadsIdentical) {

@@ -64,24 +64,33 @@ std::vector<Ray> axis_probes(const TriangleMesh& m, Vec3f centre) {
   return rays;
 }
 
+// Misses of the default (bvh8) layout; every layout must miss the same rays,
+// since the layout only changes how the tree is stored.
 size_t count_misses(const Scene& scene, const std::vector<Ray>& rays, TriangleTestKind kind) {
-  BackendOptions o;
-  o.triangle_test = kind;
-  o.threads = 2;
-  return run_with_threads(2, [&] {
-    auto isect = make_intersector("bvh", o);
-    isect->build(scene);
-    std::vector<Hit> hits(rays.size());
-    isect->intersect(rays, hits);
-    std::vector<uint8_t> occ(rays.size());
-    isect->occluded(rays, occ);
-    size_t misses = 0;
-    for (size_t i = 0; i < rays.size(); ++i) {
-      misses += !hits[i].hit();
-      EXPECT_EQ(occ[i], hits[i].hit() ? 1 : 0);
-    }
-    return misses;
-  });
+  std::vector<size_t> misses_per_layout;
+  for (BvhLayout layout : {BvhLayout::kBvh2, BvhLayout::kBvh4, BvhLayout::kBvh8}) {
+    BackendOptions o;
+    o.triangle_test = kind;
+    o.threads = 2;
+    o.layout = layout;
+    misses_per_layout.push_back(run_with_threads(2, [&] {
+      auto isect = make_intersector("bvh", o);
+      isect->build(scene);
+      std::vector<Hit> hits(rays.size());
+      isect->intersect(rays, hits);
+      std::vector<uint8_t> occ(rays.size());
+      isect->occluded(rays, occ);
+      size_t misses = 0;
+      for (size_t i = 0; i < rays.size(); ++i) {
+        misses += !hits[i].hit();
+        EXPECT_EQ(occ[i], hits[i].hit() ? 1 : 0);
+      }
+      return misses;
+    }));
+  }
+  EXPECT_EQ(misses_per_layout[0], misses_per_layout[2]) << "bvh2 vs bvh8";
+  EXPECT_EQ(misses_per_layout[1], misses_per_layout[2]) << "bvh4 vs bvh8";
+  return misses_per_layout[2];
 }
 
 void expect_no_leaks(float scale, Vec3f offset, const char* label) {

@@ -15,10 +15,13 @@
 #include "anim/scene_animator.h"
 #include "bvh/builders.h"
 #include "bvh/flatten.h"
+#include "bvh/flatten_wide.h"
 #include "bvh/refit.h"
+#include "bvh/refit_wide.h"
 #include "bvh_test_meshes.h"
 #include "core/mesh_generators.h"
 #include "core/parallel.h"
+#include "wide_bvh_checks.h"
 
 // Counting global operator new: refit must not allocate (counted only while
 // g_counting is set, on every thread).
@@ -244,17 +247,23 @@ TEST(Refit, ReportsATriangleThatBecameInvalid) {
   }
 }
 
+// A 20k-triangle sphere under one deformer, fps 8.
+Scene deforming_sphere(const char* kind, int frames) {
+  Scene s;
+  s.add_mesh(generate_sphere(20000));
+  s.animation.frames = frames;
+  s.animation.fps = 8.0f;
+  DeformerSpec d;
+  d.kind = kind;
+  d.amplitude = std::string(kind) == "explode" ? 1.0f : 0.1f;
+  d.angle_deg = 180.0f;
+  s.animation.deformers = {d};
+  return s;
+}
+
 TEST(Refit, EveryDeformerKeepsBoxesTight) {
   for (const char* kind : {"twist", "bend", "wave", "pulse", "explode"}) {
-    Scene s;
-    s.add_mesh(generate_sphere(20000));
-    s.animation.frames = 5;
-    s.animation.fps = 8.0f;
-    DeformerSpec d;
-    d.kind = kind;
-    d.amplitude = std::string(kind) == "explode" ? 1.0f : 0.1f;
-    d.angle_deg = 180.0f;
-    s.animation.deformers = {d};
+    Scene s = deforming_sphere(kind, 5);
     run_with_threads(kThreads, [&] {
       const SceneAnimator animator(s);  // unwelds for explode
       animator.apply(0, s);
@@ -330,6 +339,66 @@ TEST(Refit, AllocatesNothing) {
   EXPECT_EQ(g_allocations.load(), 0);
   EXPECT_EQ(check_flat(bvh, s), "");
 }
+
+// The wide layouts: the binary and a wide layout of one build, refitted over
+// the same deformation, report the same SAH cost (the wide one sums the
+// collapsed binary nodes' boxes), every wide slot stays exactly its contents,
+// the result is the same on 1 and 2 threads, an invalid triangle is
+// reported, and nothing is allocated.
+template <int N>
+void check_wide_refit() {
+  for (const char* kind : {"twist", "explode"}) {
+    SCOPED_TRACE(kind);
+    Scene s = deforming_sphere(kind, 4);
+    s.add_mesh(test::random_soup(3000, 9));
+    const SceneAnimator animator(s);
+    animator.apply(0, s);
+    BuildOptions o;
+    const PrimInfo prims = make_prim_info(s);
+    const BuildTree tree = build_tree(prims, o);
+    FlatBvh flat = flatten(tree, prims, s);
+    const WideBvh<N> built = flatten_wide<N>(tree, prims, s);
+    WideBvh<N> wide = built;
+    for (int frame = 1; frame < animator.frames(); ++frame) {
+      animator.apply(frame, s);
+      const RefitResult rf = refit(flat, s);
+      const RefitResult rw = run_with_threads(kThreads, [&] { return refit(wide, s); });
+      EXPECT_TRUE(rw.valid);
+      EXPECT_NEAR(rw.sah_cost, rf.sah_cost, 1e-12 * rf.sah_cost) << frame;
+      EXPECT_NEAR(wide_sah_cost(wide), rw.sah_cost, 1e-12 * rw.sah_cost) << frame;
+      ASSERT_EQ(test::check_wide(wide, s), "") << frame;
+    }
+    WideBvh<N> one = built;
+    const RefitResult r1 = run_with_threads(1, [&] { return refit(one, s); });
+    EXPECT_EQ(r1.sah_cost, wide_sah_cost(wide));
+    for (size_t i = 0; i < one.nodes.size(); ++i)
+      for (int row = 0; row < 6; ++row)
+        for (int c = 0; c < N; ++c)
+          ASSERT_EQ(one.nodes[i].bounds[row][c], wide.nodes[i].bounds[row][c]);
+  }
+  // An invalidated triangle, and no allocation on a refit with an index.
+  Scene s = soup_scene(5000);
+  const PrimInfo prims = make_prim_info(s);
+  WideBvh<N> wide = flatten_wide<N>(build_tree(prims, BuildOptions{}), prims, s);
+  run_with_threads(kThreads, [&] {
+    refit(wide, s);
+    const RefitIndex index = make_refit_index(wide.triangles, s);
+    for (Vec3f& p : s.meshes[0].positions) p = p * 1.5f;
+    g_allocations = 0;
+    g_counting = true;
+    const RefitResult r = refit(wide, s, RefitTriangles::kVerts, &index);
+    g_counting = false;
+    EXPECT_TRUE(r.valid);
+  });
+  EXPECT_EQ(g_allocations.load(), 0);
+  EXPECT_EQ(test::check_wide(wide, s), "");
+  const Vec3u t = s.meshes[0].triangles[321];
+  s.meshes[0].positions[t[1]] = s.meshes[0].positions[t[0]];
+  EXPECT_FALSE(refit(wide, s).valid);
+}
+
+TEST(Refit, WideBvh4MatchesBinaryAndStaysExact) { check_wide_refit<4>(); }
+TEST(Refit, WideBvh8MatchesBinaryAndStaysExact) { check_wide_refit<8>(); }
 
 }  // namespace
 }  // namespace hprt

@@ -1,7 +1,8 @@
 // hprt's own BVH behind the Intersector interface: prim info -> build tree
 // (the builder named in the options, oneTBB inside the caller's task arena)
-// -> tree statistics -> flattened binary layout; batches of rays traced in
-// parallel blocks with one switch per batch into a fully inlined traversal.
+// -> tree statistics -> the traversal layout named in the options (binary, or
+// wide 4/8 collapsed from the same tree); batches of rays traced in parallel
+// blocks with one switch per batch into a fully inlined traversal.
 // update(): per BackendOptions::update, a full rebuild, a refit over the last
 // build's topology (bvh/refit.h), or adaptive (refit, then rebuild when the
 // refitted SAH cost exceeds adaptive_factor x the cost at the last rebuild).
@@ -17,8 +18,11 @@
 
 #include "bvh/builders.h"
 #include "bvh/flatten.h"
+#include "bvh/flatten_wide.h"
 #include "bvh/refit.h"
+#include "bvh/refit_wide.h"
 #include "bvh/traverse.h"
+#include "bvh/traverse_wide.h"
 
 namespace hprt {
 namespace {
@@ -30,34 +34,59 @@ double ms_since(std::chrono::steady_clock::time_point start) {
       .count();
 }
 
-template <typename Test>
-void intersect_batch(const FlatBvh& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
+template <typename Test, bool kAnyHit>
+bool trace_one(const FlatBvh& bvh, const Ray& ray, Hit& hit) {
+  return traverse<Test, kAnyHit>(bvh, ray, hit);
+}
+template <typename Test, bool kAnyHit, int N>
+bool trace_one(const WideBvh<N>& bvh, const Ray& ray, Hit& hit) {
+  return traverse_wide<Test, kAnyHit>(bvh, ray, hit);
+}
+
+template <typename Test, typename Bvh>
+void intersect_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), kGrain),
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t i = r.begin(); i != r.end(); ++i) {
                         Hit h;
-                        if (ray_is_valid(rays[i])) traverse<Test, false>(bvh, rays[i], h);
+                        if (ray_is_valid(rays[i])) trace_one<Test, false>(bvh, rays[i], h);
                         hits[i] = h;
                       }
                     });
 }
 
-template <typename Test>
-void occluded_batch(const FlatBvh& bvh, std::span<const Ray> rays, std::span<uint8_t> out) {
+template <typename Test, typename Bvh>
+void occluded_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<uint8_t> out) {
   tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), kGrain),
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t i = r.begin(); i != r.end(); ++i) {
                         Hit h;
-                        out[i] = ray_is_valid(rays[i]) && traverse<Test, true>(bvh, rays[i], h);
+                        out[i] = ray_is_valid(rays[i]) && trace_one<Test, true>(bvh, rays[i], h);
                       }
                     });
 }
 
 class BvhIntersector final : public Intersector {
+  // Calls f with the layout in use (options_.layout); Self is const or not.
+  template <typename Self, typename F>
+  static decltype(auto) with_layout(Self& self, F&& f) {
+    switch (self.options_.layout) {
+      case BvhLayout::kBvh2:
+        return f(self.bvh2_);
+      case BvhLayout::kBvh4:
+        return f(self.bvh4_);
+      case BvhLayout::kBvh8:
+        break;
+    }
+    return f(self.bvh8_);
+  }
+
  public:
   explicit BvhIntersector(const BackendOptions& options) : options_(options) {
     info_.name = "bvh/" + std::string(to_string(options.build.builder)) + "/" +
                  std::string(to_string(options.triangle_test));
+    if (options.layout != BvhLayout::kBvh8)
+      info_.name.append("/").append(to_string(options.layout));
     info_.has_tree_stats = true;
   }
 
@@ -82,11 +111,11 @@ class BvhIntersector final : public Intersector {
       ms = ms_since(start) + rebuild(scene);
     } else {
       // Only the array this backend's triangle test reads is re-gathered.
+      const RefitTriangles write = options_.triangle_test == TriangleTestKind::kMoller
+                                       ? RefitTriangles::kEdges
+                                       : RefitTriangles::kVerts;
       const RefitResult r =
-          refit(bvh_, scene,
-                options_.triangle_test == TriangleTestKind::kMoller ? RefitTriangles::kEdges
-                                                                    : RefitTriangles::kVerts,
-                &refit_index_);
+          with_layout(*this, [&](auto& bvh) { return refit(bvh, scene, write, &refit_index_); });
       if (!r.valid || (options_.update == UpdateStrategy::kAdaptive &&
                        r.sah_cost > double(options_.adaptive_factor) * rebuild_sah_cost_)) {
         ms = ms_since(start) + rebuild(scene);
@@ -103,27 +132,23 @@ class BvhIntersector final : public Intersector {
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override {
     if (hits.size() < rays.size())
       throw std::invalid_argument("intersect: fewer hit slots than rays");
-    switch (options_.triangle_test) {
-      case TriangleTestKind::kWatertight:
-        intersect_batch<WatertightTest>(bvh_, rays, hits);
-        break;
-      case TriangleTestKind::kMoller:
-        intersect_batch<MollerTest>(bvh_, rays, hits);
-        break;
-    }
+    with_layout(*this, [&](const auto& bvh) {
+      if (options_.triangle_test == TriangleTestKind::kMoller)
+        intersect_batch<MollerTest>(bvh, rays, hits);
+      else
+        intersect_batch<WatertightTest>(bvh, rays, hits);
+    });
   }
 
   void occluded(std::span<const Ray> rays, std::span<uint8_t> result) const override {
     if (result.size() < rays.size())
       throw std::invalid_argument("occluded: fewer result slots than rays");
-    switch (options_.triangle_test) {
-      case TriangleTestKind::kWatertight:
-        occluded_batch<WatertightTest>(bvh_, rays, result);
-        break;
-      case TriangleTestKind::kMoller:
-        occluded_batch<MollerTest>(bvh_, rays, result);
-        break;
-    }
+    with_layout(*this, [&](const auto& bvh) {
+      if (options_.triangle_test == TriangleTestKind::kMoller)
+        occluded_batch<MollerTest>(bvh, rays, result);
+      else
+        occluded_batch<WatertightTest>(bvh, rays, result);
+    });
   }
 
   BuildInfo info() const override { return info_; }
@@ -136,15 +161,37 @@ class BvhIntersector final : public Intersector {
     const auto start = std::chrono::steady_clock::now();
     const PrimInfo prims = make_prim_info(scene);
     const BuildTree tree = build_tree(prims, options_.build);
-    bvh_ = flatten(tree, prims, scene);
+    // Only the layout in use is kept; the others are left empty.
+    bvh2_ = FlatBvh{};
+    bvh4_ = WideBvh<4>{};
+    bvh8_ = WideBvh<8>{};
+    switch (options_.layout) {
+      case BvhLayout::kBvh2:
+        bvh2_ = flatten(tree, prims, scene);
+        break;
+      case BvhLayout::kBvh4:
+        bvh4_ = flatten_wide<4>(tree, prims, scene);
+        break;
+      case BvhLayout::kBvh8:
+        bvh8_ = flatten_wide<8>(tree, prims, scene);
+        break;
+    }
     record_layout(scene, prims);
-    refit_index_ = make_refit_index(bvh_, scene);
-    rebuild_sah_cost_ = flat_sah_cost(bvh_);  // = stats.sah_cost up to rounding
+    with_layout(*this, [&](const auto& bvh) {
+      refit_index_ = make_refit_index(bvh.triangles, scene);
+      rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
+      info_.memory_bytes = bvh.memory_bytes();
+    });
     const double ms = ms_since(start);
     info_.stats = compute_tree_stats(tree, prims);
-    info_.memory_bytes = bvh_.memory_bytes();
     info_.rebuilt = true;
     return ms;
+  }
+
+  static double sah_cost_of(const FlatBvh& bvh) { return flat_sah_cost(bvh); }
+  template <int N>
+  static double sah_cost_of(const WideBvh<N>& bvh) {
+    return wide_sah_cost(bvh);
   }
 
   // What the tree was built over: per mesh its vertex and triangle counts,
@@ -183,7 +230,9 @@ class BvhIntersector final : public Intersector {
   };
 
   BackendOptions options_;
-  FlatBvh bvh_;
+  FlatBvh bvh2_;
+  WideBvh<4> bvh4_;
+  WideBvh<8> bvh8_;
   BuildInfo info_;
   std::vector<MeshLayout> layout_;  // per mesh at the last rebuild
   std::vector<PrimRef> invalid_;    // triangles left out at the last rebuild

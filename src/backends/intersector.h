@@ -30,6 +30,7 @@ struct BackendOptions {
   // bvh backend
   BuildOptions build;
   TriangleTestKind triangle_test = TriangleTestKind::kWatertight;
+  BvhLayout layout = BvhLayout::kBvh8;
   // embree backend
   std::string embree_quality = "medium";  // low | medium | high | refit
   bool embree_robust = false;

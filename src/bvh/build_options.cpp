@@ -34,4 +34,23 @@ std::optional<TriangleTestKind> parse_triangle_test(std::string_view s) {
   return std::nullopt;
 }
 
+std::string_view to_string(BvhLayout k) {
+  switch (k) {
+    case BvhLayout::kBvh2:
+      return "bvh2";
+    case BvhLayout::kBvh4:
+      return "bvh4";
+    case BvhLayout::kBvh8:
+      return "bvh8";
+  }
+  return "?";
+}
+
+std::optional<BvhLayout> parse_layout(std::string_view s) {
+  if (s == "bvh2") return BvhLayout::kBvh2;
+  if (s == "bvh4") return BvhLayout::kBvh4;
+  if (s == "bvh8") return BvhLayout::kBvh8;
+  return std::nullopt;
+}
+
 }  // namespace hprt

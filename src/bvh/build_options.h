@@ -9,6 +9,9 @@ namespace hprt {
 
 enum class BuilderKind { kSweep, kPresorted, kBinned, kParallel };
 enum class TriangleTestKind { kWatertight, kMoller };
+// Traversal layout the build tree is flattened into: binary 32-byte nodes, or
+// wide nodes of 4 or 8 children with SoA bounds (bvh/node_wide.h).
+enum class BvhLayout { kBvh2, kBvh4, kBvh8 };
 
 // SAH constants of the report's equation (1): cost = C_trav + sum over children
 // of SA(child)/SA(parent) * C_isect * triangles(child). The defaults are those
@@ -32,5 +35,7 @@ std::string_view to_string(BuilderKind k);
 std::optional<BuilderKind> parse_builder(std::string_view s);
 std::string_view to_string(TriangleTestKind k);
 std::optional<TriangleTestKind> parse_triangle_test(std::string_view s);
+std::string_view to_string(BvhLayout k);
+std::optional<BvhLayout> parse_layout(std::string_view s);
 
 }  // namespace hprt

@@ -25,6 +25,26 @@ BinaryNode to_flat(const BuildNode& b) {
 
 }  // namespace
 
+LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims,
+                                    const Scene& scene) {
+  const size_t m = tree.prim_order.size();
+  LeafTriangles tris;
+  tris.resize(m);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, m, 4096), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t j = r.begin(); j != r.end(); ++j) {
+          const PrimRef ref = prims.refs[tree.prim_order[j]];
+          const TriangleMesh& mesh = scene.meshes[ref.geom_id];
+          const Vec3u& t = mesh.triangles[ref.prim_id];
+          const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+          tris.verts[j] = TriangleVerts{a, b, c};
+          tris.edges[j] = TriangleEdges{a, b - a, c - a};
+          tris.refs[j] = ref;
+        }
+      });
+  return tris;
+}
+
 FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene) {
   FlatBvh out;
   const size_t n = tree.nodes.size();
@@ -65,21 +85,7 @@ FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene
   if (visited != n || (n > 1 && next != n + 1))
     throw std::invalid_argument("flatten: build tree is not a single binary tree");
 
-  const size_t m = tree.prim_order.size();
-  LeafTriangles& tris = out.triangles;
-  tris.resize(m);
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, m, 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t j = r.begin(); j != r.end(); ++j) {
-          const PrimRef ref = prims.refs[tree.prim_order[j]];
-          const TriangleMesh& mesh = scene.meshes[ref.geom_id];
-          const Vec3u& t = mesh.triangles[ref.prim_id];
-          const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
-          tris.verts[j] = TriangleVerts{a, b, c};
-          tris.edges[j] = TriangleEdges{a, b - a, c - a};
-          tris.refs[j] = ref;
-        }
-      });
+  out.triangles = gather_leaf_triangles(tree, prims, scene);
   return out;
 }
 

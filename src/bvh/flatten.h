@@ -15,4 +15,10 @@ namespace hprt {
 // a malformed tree (a child index out of range, a leaf range past prim_order).
 FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene);
 
+// The triangle pass of every layout: prim_order's triangles copied into leaf
+// order with their test data (verts, edges) and input refs, in parallel.
+// prim_order's indices must be in range of `prims` (builders guarantee it).
+LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims,
+                                    const Scene& scene);
+
 }  // namespace hprt

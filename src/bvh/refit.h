@@ -34,6 +34,7 @@ struct RefitIndex {
   std::vector<Vec3u> triangles;  // one per leaf-order triangle
 };
 RefitIndex make_refit_index(const FlatBvh& bvh, const Scene& scene);
+RefitIndex make_refit_index(const LeafTriangles& triangles, const Scene& scene);
 
 // `bvh` must have been built (flatten) over `scene` with the same meshes and
 // triangle indices; only positions may differ. `index`, when given, must be

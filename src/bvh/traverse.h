@@ -8,6 +8,7 @@
 #include <cstdint>
 
 #include "bvh/flat_bvh.h"
+#include "bvh/leaf_intersect.h"
 #include "bvh/slab_test.h"
 #include "bvh/traversal_stack.h"
 #include "bvh/triangle_test.h"
@@ -15,12 +16,6 @@
 #include "core/ray.h"
 
 namespace hprt {
-
-struct TraversalStats {
-  uint64_t nodes = 0;      // inner nodes whose children were tested
-  uint64_t leaves = 0;     // leaves visited
-  uint64_t triangles = 0;  // ray/triangle tests
-};
 
 // Rays that hprt defines as misses (core/ray.h), checked once before traversal.
 inline bool ray_is_valid(const Ray& r) { return ray_valid(r); }
@@ -45,9 +40,7 @@ bool traverse(const FlatBvh& bvh, const Ray& ray, Hit& hit, TraversalStats* stat
   const typename Test::Prepared prep = Test::prepare(ray);
   const float tnear = ray.tnear;
   float tfar = ray.tfar;
-  bool found = false;
-  uint32_t found_index = 0;
-  TriangleHit best{};
+  ClosestHit closest;
 
   float entry = 0.0f;
   if (!slab_robust(slab, detail::node_floats(nodes[0]), tnear, tfar, entry)) return false;
@@ -95,40 +88,16 @@ bool traverse(const FlatBvh& bvh, const Ray& ray, Hit& hit, TraversalStats* stat
         break;
       }
     }
-    if (node) {
-      if constexpr (kStats) ++stats->leaves;
-      const uint32_t end = node->index + node->count;
-      for (uint32_t i = node->index; i < end; ++i) {
-        if constexpr (kStats) ++stats->triangles;
-        TriangleHit h;
-        if (Test::intersect(prep, tris, i, tnear, tfar, h)) {
-          if constexpr (kAnyHit) {
-            hit.t = h.t;
-            hit.u = h.u;
-            hit.v = h.v;
-            hit.geom_id = tris.refs[i].geom_id;
-            hit.prim_id = tris.refs[i].prim_id;
-            return true;
-          }
-          if (!found) __builtin_prefetch(&tris.refs[i]);  // read once, at the end
-          found = true;
-          found_index = i;
-          best = h;
-          tfar = h.t;
-        }
-      }
+    if (node && intersect_leaf<Test, kAnyHit, kStats>(prep, tris, node->index, node->count, tnear,
+                                                      tfar, closest, stats)) {
+      closest.store(tris, hit);
+      return true;
     }
     // Pop the next node that may still hold a closer hit.
     for (;;) {
       if (stack.empty()) {
-        if (found) {
-          hit.t = best.t;
-          hit.u = best.u;
-          hit.v = best.v;
-          hit.geom_id = tris.refs[found_index].geom_id;
-          hit.prim_id = tris.refs[found_index].prim_id;
-        }
-        return found;
+        if (closest.found) closest.store(tris, hit);
+        return closest.found;
       }
       const StackEntry e = stack.pop();
       if (e.entry <= tfar) {

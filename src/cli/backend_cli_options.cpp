@@ -27,6 +27,9 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
   cmd.add_option("--isect", o.isect, "bvh: ray/triangle test")
       ->check(CLI::IsMember({"watertight", "mt"}))
       ->capture_default_str();
+  cmd.add_option("--layout", o.layout, "bvh: traversal layout (binary, 4- or 8-wide nodes)")
+      ->check(CLI::IsMember({"bvh2", "bvh4", "bvh8"}))
+      ->capture_default_str();
   cmd.add_option("--quality", o.quality, "embree: build quality")
       ->check(CLI::IsMember({"low", "medium", "high", "refit"}))
       ->capture_default_str();
@@ -47,6 +50,7 @@ BackendOptions finish_backend_options(const BackendCliOptions& o) {
   r.backend = o.backend;
   r.build.builder = *parse_builder(o.builder);
   r.triangle_test = *parse_triangle_test(o.isect);
+  r.layout = *parse_layout(o.layout);
   r.embree_quality = o.quality;
   r.embree_robust = o.robust == "on";
   r.update = o.update == "rebuild" ? UpdateStrategy::kRebuild

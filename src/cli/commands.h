@@ -24,12 +24,13 @@ void add_bench_command(CLI::App& app, CommandState& state);  // "bench" build|tr
 void add_bench_frames_command(CLI::App& bench, CommandState& state);  // "bench frames"
 
 // --backend, --threads and every backend option (--builder, --bins,
-// --leaf-size, --isect, --quality, --robust, --update, --adaptive-factor).
+// --leaf-size, --isect, --layout, --quality, --robust, --update, --adaptive-factor).
 // Values are checked at parse time; finish_backend_options() converts them.
 struct BackendCliOptions {
   std::string backend = "bvh";
   std::string builder = "parallel";
   std::string isect = "watertight";
+  std::string layout = "bvh8";
   std::string quality = "medium";
   std::string robust = "off";
   std::string update = "adaptive";

@@ -1,0 +1,148 @@
+// One depth-first recursion over wide nodes, as refit.cpp's over binary ones:
+// each slot's box comes from its leaf's gathered triangles or its child
+// node's slots; the node adds its own box and its collapsed binary nodes'
+// (unions of slot ranges) to the SAH sums, in slot order, so the result never
+// depends on the thread count. The top levels run their children as oneTBB
+// tasks.
+#include "bvh/refit_wide.h"
+
+#include <tbb/parallel_for.h>
+
+#include "bvh/refit_detail.h"
+
+namespace hprt {
+namespace {
+
+using refit_detail::Partial;
+
+template <int N>
+AABB slot_box(const WideNode<N>& node, int i) {
+  return AABB(Vec3f{node.bounds[0][i], node.bounds[2][i], node.bounds[4][i]},
+              Vec3f{node.bounds[1][i], node.bounds[3][i], node.bounds[5][i]});
+}
+
+template <int N>
+void set_slot_box(WideNode<N>& node, int i, const AABB& b) {
+  node.bounds[0][i] = b.min.x;
+  node.bounds[1][i] = b.max.x;
+  node.bounds[2][i] = b.min.y;
+  node.bounds[3][i] = b.max.y;
+  node.bounds[4][i] = b.min.z;
+  node.bounds[5][i] = b.max.z;
+}
+
+// kGather: refit (Bvh = WideBvh<N>), rewriting the arrays kWrite names;
+// otherwise only sum the SAH (Bvh = const WideBvh<N>).
+template <bool kGather, RefitTriangles kWrite, int N, typename Bvh>
+Partial visit(Bvh& bvh, const Scene* scene, const Vec3u* tri_index, uint32_t index, int depth,
+              int parallel) {
+  auto& node = bvh.nodes[index];
+  Partial slot[N];
+  const auto one_slot = [&](int i) {
+    const NodeRef c = node.child[i];
+    Partial& p = slot[i];
+    if (c.empty()) return;
+    if (c.is_leaf()) {
+      if constexpr (kGather) {
+        p = refit_detail::refit_leaf<kWrite>(bvh.triangles, *scene, tri_index, c.index(),
+                                             c.count());
+      } else {
+        p.box = slot_box(node, i);
+      }
+      p.area_cost = double(p.box.half_area()) * c.count();
+      p.unit_cost = c.count();
+    } else {
+      p = visit<kGather, kWrite, N>(bvh, scene, tri_index, c.index(), depth + 1, parallel);
+    }
+  };
+  if (depth < parallel) {
+    tbb::parallel_for(0, N, one_slot);
+  } else {
+    for (int i = 0; i < N; ++i) one_slot(i);
+  }
+  Partial p;
+  for (int i = 0; i < N; ++i) {
+    if (node.child[i].empty()) continue;
+    if constexpr (kGather) set_slot_box(node, i, slot[i].box);
+    p.box.extend(slot[i].box);
+    p.area_cost += slot[i].area_cost;
+    p.unit_cost += slot[i].unit_cost;
+    p.valid = p.valid && slot[i].valid;
+  }
+  p.area_cost += double(p.box.half_area());
+  p.unit_cost += 1.0;
+  const CollapsedInner<N>& col = bvh.collapsed[index];
+  for (int r = 0; r < col.count; ++r) {
+    AABB b;
+    for (int i = col.begin[r]; i < col.end[r]; ++i) b.extend(slot[i].box);
+    p.area_cost += double(b.half_area());
+    p.unit_cost += 1.0;
+  }
+  return p;
+}
+
+// A wide level spans about log2(N) binary levels.
+template <int N>
+int wide_parallel_depth(size_t triangles) {
+  constexpr int kLevels = N == 8 ? 3 : 2;
+  return (refit_detail::parallel_depth(triangles) + kLevels - 1) / kLevels;
+}
+
+// The whole tree as one leaf: its box and cost from its triangles.
+template <bool kGather, RefitTriangles kWrite, int N, typename Bvh>
+Partial visit_root(Bvh& bvh, const Scene* scene, const Vec3u* tri_index) {
+  if (bvh.root.is_inner())
+    return visit<kGather, kWrite, N>(bvh, scene, tri_index, bvh.root.index(), 0,
+                                     wide_parallel_depth<N>(bvh.triangles.size()));
+  Partial p;
+  if constexpr (kGather) {
+    p = refit_detail::refit_leaf<kWrite>(bvh.triangles, *scene, tri_index, bvh.root.index(),
+                                         bvh.root.count());
+  }
+  p.unit_cost = bvh.root.count();
+  p.area_cost = double(p.box.half_area()) * bvh.root.count();
+  return p;
+}
+
+}  // namespace
+
+template <int N>
+RefitResult refit(WideBvh<N>& bvh, const Scene& scene, RefitTriangles triangles,
+                  const RefitIndex* index) {
+  RefitResult r;
+  if (bvh.empty()) return r;
+  const Vec3u* tri =
+      index && index->triangles.size() == bvh.triangles.size() ? index->triangles.data() : nullptr;
+  Partial root;
+  switch (triangles) {
+    case RefitTriangles::kBoth:
+      root = visit_root<true, RefitTriangles::kBoth, N>(bvh, &scene, tri);
+      break;
+    case RefitTriangles::kVerts:
+      root = visit_root<true, RefitTriangles::kVerts, N>(bvh, &scene, tri);
+      break;
+    case RefitTriangles::kEdges:
+      root = visit_root<true, RefitTriangles::kEdges, N>(bvh, &scene, tri);
+      break;
+  }
+  r.valid = root.valid;
+  r.sah_cost = refit_detail::normalised(root);
+  return r;
+}
+
+template <int N>
+double wide_sah_cost(const WideBvh<N>& bvh) {
+  if (bvh.empty()) return 0.0;
+  // A single-leaf tree has no box stored: its cost is its count whatever the
+  // root area (every weight is SA(root) / SA(root) = 1).
+  if (bvh.root.is_leaf()) return bvh.root.count();
+  return refit_detail::normalised(
+      visit_root<false, RefitTriangles::kBoth, N>(bvh, nullptr, nullptr));
+}
+
+template RefitResult refit<4>(WideBvh<4>&, const Scene&, RefitTriangles, const RefitIndex*);
+template RefitResult refit<8>(WideBvh<8>&, const Scene&, RefitTriangles, const RefitIndex*);
+template double wide_sah_cost<4>(const WideBvh<4>&);
+template double wide_sah_cost<8>(const WideBvh<8>&);
+
+}  // namespace hprt
