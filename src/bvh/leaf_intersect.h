@@ -7,6 +7,7 @@
 
 #include "bvh/leaf_triangles.h"
 #include "bvh/triangle_test.h"
+#include "core/force_inline.h"
 #include "core/hit.h"
 
 namespace hprt {
@@ -22,7 +23,7 @@ struct ClosestHit {
   uint32_t index = 0;  // leaf-order triangle
   TriangleHit best{};
 
-  void store(const LeafTriangles& tris, Hit& hit) const {
+  HPRT_FORCE_INLINE void store(const LeafTriangles& tris, Hit& hit) const {
     hit.t = best.t;
     hit.u = best.u;
     hit.v = best.v;
@@ -34,9 +35,10 @@ struct ClosestHit {
 // Tests triangles [first, first + count). With kAnyHit it returns true at the
 // first hit (recorded in `closest`); otherwise it always returns false.
 template <typename Test, bool kAnyHit, bool kStats>
-inline bool intersect_leaf(const typename Test::Prepared& prep, const LeafTriangles& tris,
-                           uint32_t first, uint32_t count, float tnear, float& tfar,
-                           ClosestHit& closest, TraversalStats* stats) {
+HPRT_FORCE_INLINE bool intersect_leaf(const typename Test::Prepared& prep,
+                                      const LeafTriangles& tris, uint32_t first, uint32_t count,
+                                      float tnear, float& tfar, ClosestHit& closest,
+                                      TraversalStats* stats) {
   if constexpr (kStats) ++stats->leaves;
   const uint32_t end = first + count;
   for (uint32_t i = first; i < end; ++i) {

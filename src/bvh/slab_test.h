@@ -20,6 +20,7 @@
 #endif
 
 #include "core/aabb.h"
+#include "core/force_inline.h"
 #include "core/ray.h"
 #include "core/vec.h"
 
@@ -57,7 +58,7 @@ struct SlabRay {
   int far_off[3] = {4, 5, 6};
 
   SlabRay() = default;
-  explicit SlabRay(const Ray& r) : org(r.org) {
+  HPRT_FORCE_INLINE explicit SlabRay(const Ray& r) : org(r.org) {
     constexpr float kPad = 1.0f + 2.0f * float_gamma(3);
     for (int a = 0; a < 3; ++a) {
       rcp[a] = 1.0f / r.dir[a];
@@ -71,7 +72,8 @@ struct SlabRay {
 
 // Whether the box overlaps the ray on [tmin, tmax]; `entry` gets
 // max(tmin, box entry distance) for near-first ordering and early exit.
-inline bool slab_robust(const SlabRay& r, const float* box, float tmin, float tmax, float& entry) {
+HPRT_FORCE_INLINE bool slab_robust(const SlabRay& r, const float* box, float tmin, float tmax,
+                                   float& entry) {
   const float tnx = (box[r.near_off[0]] - r.org.x) * r.rcp.x;
   const float tny = (box[r.near_off[1]] - r.org.y) * r.rcp.y;
   const float tnz = (box[r.near_off[2]] - r.org.z) * r.rcp.z;
@@ -96,7 +98,7 @@ struct SlabRayPair {
   __m256 org, rcp, rcp_far;
   __m256i perm;
 
-  explicit SlabRayPair(const SlabRay& r) {
+  HPRT_FORCE_INLINE explicit SlabRayPair(const SlabRay& r) {
     org = _mm256_setr_ps(r.org.x, r.org.y, r.org.z, r.org.x, r.org.x, r.org.y, r.org.z, r.org.x);
     rcp = _mm256_setr_ps(r.rcp.x, r.rcp.y, r.rcp.z, r.rcp.x, r.rcp.x, r.rcp.y, r.rcp.z, r.rcp.x);
     rcp_far = _mm256_setr_ps(r.rcp_far.x, r.rcp_far.y, r.rcp_far.z, r.rcp_far.x, r.rcp_far.x,
@@ -108,8 +110,8 @@ struct SlabRayPair {
 
 // box0/box1: the two nodes, 32-byte aligned, in BinaryNode's float layout.
 // Returns bit 0 for box0 hit, bit 1 for box1; entry0/entry1 as slab_robust.
-inline int slab_robust_pair(const SlabRayPair& r, const float* box0, const float* box1, float tmin,
-                            float tmax, float& entry0, float& entry1) {
+HPRT_FORCE_INLINE int slab_robust_pair(const SlabRayPair& r, const float* box0, const float* box1,
+                                       float tmin, float tmax, float& entry0, float& entry1) {
   const __m256 a = _mm256_permutevar8x32_ps(_mm256_load_ps(box0), r.perm);
   const __m256 b = _mm256_permutevar8x32_ps(_mm256_load_ps(box1), r.perm);
   const __m256 near_planes = _mm256_permute2f128_ps(a, b, 0x20);

@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "bvh/leaf_triangles.h"
+#include "core/force_inline.h"
 #include "core/ray.h"
 #include "core/vec.h"
 
@@ -43,7 +44,7 @@ struct WatertightTest {
   // Sec. 3 of the paper: kz = dimension of the largest |dir| component, kx and
   // ky the next two, swapped when dir[kz] < 0 to keep the winding; shear
   // constants Sx, Sy, Sz.
-  static Prepared prepare(const Ray& r) {
+  HPRT_FORCE_INLINE static Prepared prepare(const Ray& r) {
     Prepared p;
     p.org = r.org;
     const Vec3f a(std::fabs(r.dir.x), std::fabs(r.dir.y), std::fabs(r.dir.z));
@@ -57,10 +58,13 @@ struct WatertightTest {
     return p;
   }
 
-  static float shear(float x, float s, float z) { return float(double(x) - double(s) * double(z)); }
+  HPRT_FORCE_INLINE static float shear(float x, float s, float z) {
+    return float(double(x) - double(s) * double(z));
+  }
 
-  static bool intersect(const Prepared& p, const Vec3f& v0, const Vec3f& v1, const Vec3f& v2,
-                        float tnear, float tfar, TriangleHit& hit) {
+  HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const Vec3f& v0, const Vec3f& v1,
+                                          const Vec3f& v2, float tnear, float tfar,
+                                          TriangleHit& hit) {
     const Vec3f a = v0 - p.org, b = v1 - p.org, c = v2 - p.org;
     // Sheared 2D vertices. Each must come out bit-identical in every triangle
     // that shares the vertex, whatever the compiler does: `x - s*z` in float
@@ -99,14 +103,15 @@ struct WatertightTest {
   }
 
   // Requests the cache lines of triangles [first, first + count).
-  static void prefetch(const LeafTriangles& tris, uint32_t first, uint32_t count) {
+  HPRT_FORCE_INLINE static void prefetch(const LeafTriangles& tris, uint32_t first,
+                                         uint32_t count) {
     const char* b = reinterpret_cast<const char*>(tris.verts.data() + first);
     __builtin_prefetch(b);
     __builtin_prefetch(b + count * sizeof(TriangleVerts) - 1);
   }
 
-  static bool intersect(const Prepared& p, const LeafTriangles& tris, uint32_t i, float tnear,
-                        float tfar, TriangleHit& hit) {
+  HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const LeafTriangles& tris, uint32_t i,
+                                          float tnear, float tfar, TriangleHit& hit) {
     const TriangleVerts& t = tris.verts[i];
     return intersect(p, t.v0, t.v1, t.v2, tnear, tfar, hit);
   }
@@ -116,10 +121,11 @@ struct MollerTest {
   struct Prepared {
     Vec3f org, dir;
   };
-  static Prepared prepare(const Ray& r) { return {r.org, r.dir}; }
+  HPRT_FORCE_INLINE static Prepared prepare(const Ray& r) { return {r.org, r.dir}; }
 
-  static bool intersect(const Prepared& p, const Vec3f& v0, const Vec3f& e1, const Vec3f& e2,
-                        float tnear, float tfar, TriangleHit& hit) {
+  HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const Vec3f& v0, const Vec3f& e1,
+                                          const Vec3f& e2, float tnear, float tfar,
+                                          TriangleHit& hit) {
     const Vec3f pv = cross(p.dir, e2);
     const float det = dot(e1, pv);
     if (det == 0.0f) return false;
@@ -139,14 +145,15 @@ struct MollerTest {
     return true;
   }
 
-  static void prefetch(const LeafTriangles& tris, uint32_t first, uint32_t count) {
+  HPRT_FORCE_INLINE static void prefetch(const LeafTriangles& tris, uint32_t first,
+                                         uint32_t count) {
     const char* b = reinterpret_cast<const char*>(tris.edges.data() + first);
     __builtin_prefetch(b);
     __builtin_prefetch(b + count * sizeof(TriangleEdges) - 1);
   }
 
-  static bool intersect(const Prepared& p, const LeafTriangles& tris, uint32_t i, float tnear,
-                        float tfar, TriangleHit& hit) {
+  HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const LeafTriangles& tris, uint32_t i,
+                                          float tnear, float tfar, TriangleHit& hit) {
     const TriangleEdges& t = tris.edges[i];
     return intersect(p, t.v0, t.e1, t.e2, tnear, tfar, hit);
   }
