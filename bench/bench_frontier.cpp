@@ -44,7 +44,8 @@ struct Config {
 
 std::vector<Config> make_configs(int threads) {
   std::vector<Config> out;
-  auto bvh = [&](BuilderKind b, int bins, int leaf, TriangleTestKind t) {
+  auto bvh = [&](BuilderKind b, int bins, int leaf, TriangleTestKind t,
+                 BvhLayout layout = BvhLayout::kBvh8) {
     Config c;
     c.options.backend = "bvh";
     c.options.threads = threads;
@@ -52,13 +53,16 @@ std::vector<Config> make_configs(int threads) {
     c.options.build.bins = bins;
     c.options.build.max_leaf_size = leaf;
     c.options.triangle_test = t;
+    c.options.layout = layout;
     c.name = "bvh/" + std::string(to_string(b));
     if (b == BuilderKind::kBinned || b == BuilderKind::kParallel)
       c.name += "/bins" + std::to_string(bins);
     c.name += "/leaf" + std::to_string(leaf) + "/" + std::string(to_string(t));
+    if (layout != BvhLayout::kBvh8) c.name += "/" + std::string(to_string(layout));
     const BackendOptions defaults;
     c.is_default = b == defaults.build.builder && bins == defaults.build.bins &&
-                   leaf == defaults.build.max_leaf_size && t == defaults.triangle_test;
+                   leaf == defaults.build.max_leaf_size && t == defaults.triangle_test &&
+                   layout == defaults.layout;
     return c;
   };
   const auto wt = TriangleTestKind::kWatertight, mt = TriangleTestKind::kMoller;
@@ -70,6 +74,8 @@ std::vector<Config> make_configs(int threads) {
   for (int bins : {4, 8, 16, 32, 64}) out.push_back(bvh(BuilderKind::kBinned, bins, 4, wt));
   for (auto t : {wt, mt})
     for (int leaf : {1, 2, 4, 8}) out.push_back(bvh(BuilderKind::kParallel, 32, leaf, t));
+  for (BvhLayout layout : {BvhLayout::kBvh2, BvhLayout::kBvh4})
+    out.push_back(bvh(BuilderKind::kParallel, 32, 4, wt, layout));
   for (bool robust : {false, true}) {
     Config c;
     c.options.backend = "embree";

@@ -29,10 +29,11 @@ struct Resolution {
   int width, height;
 };
 
-BackendOptions backend_options(const std::string& backend, int threads) {
+BackendOptions backend_options(const std::string& backend, int threads, BvhLayout layout) {
   BackendOptions bo;
   bo.backend = backend;
   bo.threads = threads;
+  bo.layout = layout;
   return bo;  // bvh: parallel builder, watertight; embree: medium, robust off
 }
 
@@ -81,9 +82,9 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
   report.set_param("threads", threads);
   report.set_param("repetitions", reps);
   report.set_param("rays_per_kind", n_rays);
-  report.set_param("backends",
-                   "bvh = parallel builder, 32 bins, leaves <= 4, watertight test; "
-                   "embree = rtcCommitScene MEDIUM, robust off");
+  report.set_param("backends", "bvh = parallel builder, 32 bins, leaves <= 4, watertight test, " +
+                                   std::string(to_string(config.layout)) +
+                                   " layout; embree = rtcCommitScene MEDIUM, robust off");
   Table& render = report.add_table(
       "render", "Whitted render time per scene, focal length, resolution, backend, threads",
       Table({{"scene", 0},
@@ -141,7 +142,8 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
       run_with_threads(threads[ti], [&] {
         std::vector<std::unique_ptr<Intersector>> built;
         for (const auto& backend : backends) {
-          built.push_back(make_intersector(backend, backend_options(backend, threads[ti])));
+          built.push_back(
+              make_intersector(backend, backend_options(backend, threads[ti], config.layout)));
           built.back()->build(scene);
         }
         for (size_t fi = 0; fi < focals.size(); ++fi)
@@ -192,8 +194,9 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
     // --- ray kinds
     for (size_t ti = 0; ti < threads.size(); ++ti) {
       run_with_threads(threads[ti], [&] {
-        auto bvh = make_intersector("bvh", backend_options("bvh", threads[ti]));
-        auto embree = make_intersector("embree", backend_options("embree", threads[ti]));
+        auto bvh = make_intersector("bvh", backend_options("bvh", threads[ti], config.layout));
+        auto embree =
+            make_intersector("embree", backend_options("embree", threads[ti], config.layout));
         bvh->build(scene);
         embree->build(scene);
         for (RayKind kind : kinds) {

@@ -9,13 +9,15 @@
 
 #include "bench/bench_options.h"
 #include "bench/report_bench.h"
+#include "bvh/build_options.h"
 
 namespace hprt::bench {
 
 struct TraceBenchConfig {
   BenchOptions common;
-  std::vector<std::string> scenes;  // scene JSON or mesh files; empty = the default set
-  size_t rays = 0;                  // rays per kind; 0 = 1,000,000 (quick: 20,000)
+  std::vector<std::string> scenes;      // scene JSON or mesh files; empty = the default set
+  size_t rays = 0;                      // rays per kind; 0 = 1,000,000 (quick: 20,000)
+  BvhLayout layout = BvhLayout::kBvh8;  // the bvh backend's traversal layout
 };
 
 // The default scenes: data/scenes/single_13mm.json (one model) and

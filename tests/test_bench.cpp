@@ -144,8 +144,10 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
        "material": {"diffuse": [0.8, 0.2, 0.2], "reflectivity": 0.5}}
     ]})";
   const CliResult r = run("bench trace " + path("scene.json") +
-                          " --quick --threads 2 --rays 2000 --out " + path("out"));
+                          " --quick --threads 2 --rays 2000 --layout bvh4 --out " + path("out"));
   ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(slurp(dir_ / "out" / "trace.json").find("watertight test, bvh4 layout"),
+            std::string::npos);
   const Csv render = read_csv(dir_ / "out" / "trace_render.csv");
   // 2 focal lengths x 2 resolutions x 2 backends x 2 thread counts.
   EXPECT_EQ(render.rows.size(), 16u);
@@ -205,12 +207,22 @@ TEST_F(Bench, FrontierQuickRowsErrorsAndPareto) {
   const auto& ref = by_config["bvh/sweep/leaf4/watertight"];
   EXPECT_EQ(ref.at("psnr_db"), "inf");  // the reference against itself
   EXPECT_EQ(number(ref.at("sah_vs_sweep")), 1.0);
-  for (const char* c : {"embree/medium/robust-off", "embree/medium/robust-on",
-                        "bvh/parallel/bins32/leaf4/watertight", "bvh/parallel/bins32/leaf4/mt",
-                        "bvh/binned/bins4/leaf4/watertight", "bvh/binned/bins64/leaf4/watertight",
-                        "bvh/presorted/leaf4/watertight", "bvh/parallel/bins32/leaf1/watertight",
-                        "bvh/parallel/bins32/leaf8/watertight"})
+  for (const char* c :
+       {"embree/medium/robust-off", "embree/medium/robust-on",
+        "bvh/parallel/bins32/leaf4/watertight", "bvh/parallel/bins32/leaf4/mt",
+        "bvh/binned/bins4/leaf4/watertight", "bvh/binned/bins64/leaf4/watertight",
+        "bvh/presorted/leaf4/watertight", "bvh/parallel/bins32/leaf1/watertight",
+        "bvh/parallel/bins32/leaf8/watertight", "bvh/parallel/bins32/leaf4/watertight/bvh2",
+        "bvh/parallel/bins32/leaf4/watertight/bvh4"})
     EXPECT_TRUE(by_config.count(c)) << c;
+  // The layouts store the same tree: same answers, same SAH cost.
+  for (const char* c :
+       {"bvh/parallel/bins32/leaf4/watertight/bvh2", "bvh/parallel/bins32/leaf4/watertight/bvh4"}) {
+    EXPECT_EQ(by_config[c].at("wrong_rays"), "0") << c;
+    EXPECT_EQ(by_config[c].at("sah_cost"),
+              by_config["bvh/parallel/bins32/leaf4/watertight"].at("sah_cost"))
+        << c;
+  }
   EXPECT_EQ(by_config["bvh/parallel/bins32/leaf4/watertight"].at("default"), "yes");
   EXPECT_TRUE(by_config["embree/medium/robust-on"].at("sah_cost").empty());
   check_json("frontier.json", "table", csv);

@@ -44,6 +44,7 @@ struct TraceCmd {
   BenchCliOptions common;
   std::vector<std::string> scenes;
   size_t rays = 0;
+  std::string layout = "bvh8";
 };
 
 void add_trace(CLI::App& bench) {
@@ -54,12 +55,15 @@ void add_trace(CLI::App& bench) {
                   "scene JSON or mesh files; default: data/scenes/single_13mm.json (one model) "
                   "and data/scenes/combo.json (five models)");
   cmd->add_option("--rays", a->rays, "rays per ray kind (default 1,000,000; --quick 20,000)");
+  cmd->add_option("--layout", a->layout, "bvh traversal layout (binary, 4- or 8-wide nodes)")
+      ->check(CLI::IsMember({"bvh2", "bvh4", "bvh8"}));
   add_bench_common_options(*cmd, a->common);
   cmd->callback([a] {
     bench::TraceBenchConfig c;
     c.common = finish_bench_options(a->common);
     c.scenes = a->scenes;
     c.rays = a->rays;
+    c.layout = *parse_layout(a->layout);
     emit_bench_report(bench::run_trace_bench(c));
   });
 }
