@@ -29,7 +29,7 @@ LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims
                                     const Scene& scene) {
   const size_t m = tree.prim_order.size();
   LeafTriangles tris;
-  tris.resize(m);
+  tris.allocate(m);
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, m, 4096), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t j = r.begin(); j != r.end(); ++j) {

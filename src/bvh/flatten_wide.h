@@ -1,9 +1,9 @@
-// Build tree -> wide traversal layout (WideBvh<N>): each wide node takes a
-// binary inner node and opens, greedily, the child with the largest surface
-// area until it has N children or only leaves (Embree's BVH4/8 builders
-// collapse the same way: "Embree", SIGGRAPH 2014, Sec. 3.2). Leaves keep the
-// binary tree's leaf ranges and the triangles their leaf order, so the wide
-// and the binary layouts of one build trace the same triangles.
+// Build tree -> wide traversal layout (WideBvh<N>): the binary inner nodes
+// are split into wide nodes and nodes opened into their wide parent's slots
+// so that the wide nodes' total surface area is least (a dynamic program over
+// the tree, see flatten_wide.cpp). Leaves keep the binary tree's leaf ranges
+// and the triangles their leaf order, so the wide and the binary layouts of
+// one build trace the same triangles.
 #pragma once
 
 #include "bvh/build_tree.h"

@@ -9,8 +9,7 @@
 #pragma once
 
 #include <cstddef>
-#include <vector>
-
+#include "bvh/build_array.h"
 #include "bvh/prim_info.h"
 #include "core/vec.h"
 
@@ -24,15 +23,16 @@ struct TriangleEdges {
 };
 
 struct LeafTriangles {
-  std::vector<TriangleVerts> verts;
-  std::vector<TriangleEdges> edges;
-  std::vector<PrimRef> refs;
+  BuildArray<TriangleVerts> verts;
+  BuildArray<TriangleEdges> edges;
+  BuildArray<PrimRef> refs;
 
   size_t size() const { return refs.size(); }
-  void resize(size_t n) {
-    verts.resize(n);
-    edges.resize(n);
-    refs.resize(n);
+  // n uninitialised triangles: the caller writes every one.
+  void allocate(size_t n) {
+    verts = BuildArray<TriangleVerts>(n);
+    edges = BuildArray<TriangleEdges>(n);
+    refs = BuildArray<PrimRef>(n);
   }
   size_t memory_bytes() const {
     return verts.size() * sizeof(TriangleVerts) + edges.size() * sizeof(TriangleEdges) +

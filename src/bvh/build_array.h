@@ -1,0 +1,49 @@
+// A fixed-size array for the traversal layouts' large arrays: allocated
+// uninitialised (make_huge_buffer: huge-page advised when large), so each page
+// is first touched by the parallel loop that fills it instead of being zeroed
+// on one thread by std::vector::resize and then written again. Copies are
+// deep. T must be trivially copyable.
+#pragma once
+
+#include <algorithm>
+#include <cstddef>
+
+#include "bvh/huge_buffer.h"
+
+namespace hprt {
+
+template <typename T>
+class BuildArray {
+ public:
+  BuildArray() = default;
+  explicit BuildArray(size_t n) : data_(n ? make_huge_buffer<T>(n) : nullptr), size_(n) {}
+  BuildArray(const BuildArray& o) : BuildArray(o.size_) { std::copy(o.begin(), o.end(), begin()); }
+  BuildArray(BuildArray&&) noexcept = default;
+  BuildArray& operator=(const BuildArray& o) {
+    if (this != &o) *this = BuildArray(o);
+    return *this;
+  }
+  BuildArray& operator=(BuildArray&& o) noexcept {
+    data_ = std::move(o.data_);
+    size_ = o.size_;
+    o.size_ = 0;
+    return *this;
+  }
+
+  size_t size() const { return size_; }
+  bool empty() const { return size_ == 0; }
+  T* data() { return data_.get(); }
+  const T* data() const { return data_.get(); }
+  T& operator[](size_t i) { return data_[i]; }
+  const T& operator[](size_t i) const { return data_[i]; }
+  T* begin() { return data(); }
+  T* end() { return data() + size_; }
+  const T* begin() const { return data(); }
+  const T* end() const { return data() + size_; }
+
+ private:
+  HugeBuffer<T> data_;
+  size_t size_ = 0;
+};
+
+}  // namespace hprt
