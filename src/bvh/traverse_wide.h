@@ -83,6 +83,17 @@ bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
         cur = node.child[near];
         continue;
       }
+      if constexpr (kAnyHit) {
+        // Any hit ends the query, so no order is worth sorting for (as
+        // Embree's occluded traversal): enter the first, push the rest.
+        stack[sp++] = {node.child[i1].bits, dist[i1]};
+        for (; mask; mask &= mask - 1) {
+          const int i = __builtin_ctz(mask);
+          stack[sp++] = {node.child[i].bits, dist[i]};
+        }
+        cur = node.child[i0];
+        continue;
+      }
       // Three or more: push all, insertion-sort the pushed run so entry
       // distances decrease towards the top, enter the nearest.
       const int base = sp;
