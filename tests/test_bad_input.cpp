@@ -284,6 +284,9 @@ TEST_F(BadInput, AbsurdOptions) {
   expect_rejected("--tris 1e12", "generate sphere --tris 1e12 -o out.ply", {"--tris"});
   expect_rejected("unknown --kind", "rays good.ply --kind laser -n 10 -o out.rays", {"laser"});
   expect_rejected("unknown --builder", "build good.ply --builder magic", {"--builder"});
+  expect_rejected("unknown --layout", "render good.ply --layout bvh16 -o out.png", {"--layout"});
+  expect_rejected("unknown bench --layout", "bench trace good.ply --quick --layout bvh3",
+                  {"--layout"});
   expect_rejected("unknown --backend", "render good.ply --backend optix -o out.png", {"--backend"});
   expect_rejected("--frames 5:2", "render good.ply --frames 5:2 -o out_%04d.png", {"--frames"});
 }
