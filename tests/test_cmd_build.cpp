@@ -6,6 +6,7 @@
 
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include "cli_test_support.h"
 
@@ -37,6 +38,7 @@ TEST_F(CmdBuild, JsonReportsTheTree) {
   EXPECT_EQ(j["threads"], 1);
   EXPECT_EQ(j["leaf_size"], 2);
   EXPECT_EQ(j["bins"], 32);
+  EXPECT_EQ(j["layout"], "bvh8");
   EXPECT_EQ(j["triangles"].get<size_t>() + j["invalid_triangles"].get<size_t>(), 6000u);
   EXPECT_EQ(j["nodes"].get<size_t>(), 2 * j["leaves"].get<size_t>() - 1);
   EXPECT_LE(j["max_leaf_size"].get<int>(), 2);
@@ -60,6 +62,24 @@ TEST_F(CmdBuild, ParallelTreeIndependentOfThreads) {
   EXPECT_EQ(ja["tree_hash"], jb["tree_hash"]);
   EXPECT_EQ(jb["threads"], 2);
   EXPECT_EQ(jb["build_ms_all"].size(), 3u);
+}
+
+// The layout changes the traversal memory, never the tree.
+TEST_F(CmdBuild, LayoutChangesMemoryNotTheTree) {
+  std::vector<nlohmann::json> j;
+  for (const char* layout : {"bvh2", "bvh4", "bvh8"}) {
+    const CliResult r = run("build " + mesh_ + " --layout " + layout + " --json");
+    ASSERT_EQ(r.code, 0) << r.err;
+    j.push_back(nlohmann::json::parse(r.out));
+    EXPECT_EQ(j.back()["layout"], layout);
+    EXPECT_NE(r.err.find(std::string("layout               ") + layout), std::string::npos)
+        << r.err;
+  }
+  for (size_t l = 1; l < j.size(); ++l) {
+    EXPECT_EQ(j[l]["tree_hash"], j[0]["tree_hash"]);
+    EXPECT_EQ(j[l]["sah_cost"], j[0]["sah_cost"]);
+    EXPECT_NE(j[l]["memory_bytes"], j[0]["memory_bytes"]);
+  }
 }
 
 TEST_F(CmdBuild, BadInputExitsTwo) {

@@ -63,12 +63,14 @@ void run_build(const BuildArgs& a) {
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016" PRIx64, s.tree_hash);
   const std::string builder(to_string(options.build.builder));
+  const std::string layout(to_string(options.layout));  // what bytes / triangle measures
 
   std::fprintf(stderr, "hprt build: %s (%s)\n", a.scene.c_str(), info.name.c_str());
   std::fprintf(stderr, "  %-20s %s\n", "builder", builder.c_str());
   std::fprintf(stderr, "  %-20s %d\n", "threads", threads);
   std::fprintf(stderr, "  %-20s %d\n", "bins", options.build.bins);
   std::fprintf(stderr, "  %-20s %d\n", "leaf size (max)", options.build.max_leaf_size);
+  std::fprintf(stderr, "  %-20s %s\n", "layout", layout.c_str());
   std::fprintf(stderr, "  %-20s %zu (+%zu invalid)\n", "triangles", s.triangles,
                s.invalid_triangles);
   std::fprintf(stderr, "  %-20s %zu (%zu leaves)\n", "nodes", s.nodes, s.leaves);
@@ -86,6 +88,7 @@ void run_build(const BuildArgs& a) {
     j["threads"] = threads;
     j["bins"] = options.build.bins;
     j["leaf_size"] = options.build.max_leaf_size;
+    j["layout"] = layout;
     j["triangles"] = s.triangles;
     j["invalid_triangles"] = s.invalid_triangles;
     j["nodes"] = s.nodes;
