@@ -1,5 +1,6 @@
-// Trace throughput micro-benchmark: bvh (watertight and Möller-Trumbore) and
-// Embree on the same scene and the same ray sets, at 1 and all threads, in
+// Trace throughput micro-benchmark: bvh (watertight and Möller-Trumbore on
+// the default bvh8 layout, watertight on the binary bvh2 one) and Embree on
+// the same scene and the same ray sets, at 1 and all threads, in
 // one run. Scene: a generated 1M-triangle sphere, or HPRT_MESH=path (a bare
 // mesh path is framed by the default camera). Counter Mrays/s; the ratio
 // bvh/embree is read off rows of the same run.
@@ -54,7 +55,8 @@ const std::vector<hprt::Ray>& rays(hprt::RayKind kind) {
   return r;
 }
 
-// args: backend (0 bvh watertight, 1 bvh mt, 2 embree), kind (0 primary,
+// args: backend (0 bvh watertight, 1 bvh mt, 2 embree, 3 bvh watertight
+// binary layout), kind (0 primary,
 // 1 random, 2 shadow, 3 reflection), threads (0 = all)
 void BM_Trace(benchmark::State& state) {
   const int backend = int(state.range(0));
@@ -68,6 +70,7 @@ void BM_Trace(benchmark::State& state) {
   o.threads = threads;
   o.triangle_test =
       backend == 1 ? hprt::TriangleTestKind::kMoller : hprt::TriangleTestKind::kWatertight;
+  if (backend == 3) o.layout = hprt::BvhLayout::kBvh2;
   std::vector<hprt::Hit> hits(rs.size());
   hprt::run_with_threads(threads, [&] {
     auto isect = hprt::make_intersector(backend == 2 ? "embree" : "bvh", o);
@@ -82,11 +85,14 @@ void BM_Trace(benchmark::State& state) {
       benchmark::Counter(double(rs.size()) * state.iterations() / 1e6, benchmark::Counter::kIsRate);
   state.counters["threads"] = hprt::resolve_threads(threads);
   state.counters["triangles"] = double(bench_scene().triangle_count());
-  state.SetLabel(backend == 0 ? "bvh/watertight" : backend == 1 ? "bvh/mt" : "embree/medium");
+  state.SetLabel(backend == 0   ? "bvh/watertight"
+                 : backend == 1 ? "bvh/mt"
+                 : backend == 2 ? "embree/medium"
+                                : "bvh/watertight/bvh2");
 }
 
 BENCHMARK(BM_Trace)
-    ->ArgsProduct({{0, 1, 2}, {0, 1, 2, 3}, {1, 0}})
+    ->ArgsProduct({{0, 1, 2, 3}, {0, 1, 2, 3}, {1, 0}})
     ->ArgNames({"backend", "kind", "threads"})
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime()
