@@ -165,19 +165,9 @@ class BvhIntersector final : public Intersector {
     bvh2_ = FlatBvh{};
     bvh4_ = WideBvh<4>{};
     bvh8_ = WideBvh<8>{};
-    switch (options_.layout) {
-      case BvhLayout::kBvh2:
-        bvh2_ = flatten(tree, prims, scene);
-        break;
-      case BvhLayout::kBvh4:
-        bvh4_ = flatten_wide<4>(tree, prims, scene);
-        break;
-      case BvhLayout::kBvh8:
-        bvh8_ = flatten_wide<8>(tree, prims, scene);
-        break;
-    }
     record_layout(scene, prims);
-    with_layout(*this, [&](const auto& bvh) {
+    with_layout(*this, [&](auto& bvh) {
+      flatten_into(bvh, tree, prims, scene);
       refit_index_ = make_refit_index(bvh.triangles, scene);
       rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
       info_.memory_bytes = bvh.memory_bytes();
@@ -188,6 +178,15 @@ class BvhIntersector final : public Intersector {
     return ms;
   }
 
+  static void flatten_into(FlatBvh& out, const BuildTree& tree, const PrimInfo& prims,
+                           const Scene& scene) {
+    out = flatten(tree, prims, scene);
+  }
+  template <int N>
+  static void flatten_into(WideBvh<N>& out, const BuildTree& tree, const PrimInfo& prims,
+                           const Scene& scene) {
+    out = flatten_wide<N>(tree, prims, scene);
+  }
   static double sah_cost_of(const FlatBvh& bvh) { return flat_sah_cost(bvh); }
   template <int N>
   static double sah_cost_of(const WideBvh<N>& bvh) {

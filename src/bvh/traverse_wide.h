@@ -2,7 +2,8 @@
 // is tested against all N child boxes of a node at once (slab_wide); one hit
 // child is entered directly, two are ordered near first with the far one
 // pushed, more are pushed and sorted so the nearest is on top and entered
-// (Embree's BVHNIntersector1 orders children the same way). Stack entries
+// (Embree's BVHNIntersector1 orders children the same way); any-hit queries
+// skip that sort. Stack entries
 // carry their entry distance, so popped nodes beyond the closest hit are
 // skipped. The leaf loop and its (tnear, tfar] rule are traverse()'s, so both
 // layouts find the same hits.
