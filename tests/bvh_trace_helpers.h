@@ -73,7 +73,8 @@ inline std::vector<Ray> coherent_rays(const AABB& box, int w, int h) {
 }
 
 // Closest hit over every triangle of the flat layout, in leaf order, with
-// the same test and the same (tnear, tfar] update as the traversal.
+// the same test and the same (tnear, tfar] update as the traversal: the
+// smallest (t, leaf index).
 template <typename Test>
 bool brute_force(const FlatBvh& bvh, const Ray& ray, Hit& hit) {
   if (!ray_is_valid(ray)) return false;
@@ -83,6 +84,7 @@ bool brute_force(const FlatBvh& bvh, const Ray& ray, Hit& hit) {
   for (uint32_t i = 0; i < bvh.triangles.size(); ++i) {
     TriangleHit h;
     if (Test::intersect(p, bvh.triangles, i, ray.tnear, tfar, h)) {
+      if (found && h.t == tfar) continue;  // a tie keeps the lower leaf index
       tfar = h.t;
       found = true;
       hit = Hit{h.t, h.u, h.v, bvh.triangles.refs[i].geom_id, bvh.triangles.refs[i].prim_id};

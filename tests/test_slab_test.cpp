@@ -89,7 +89,33 @@ TEST(SlabTest, GrazingAndIntervals) {
   const SlabRay s(r);
   float entry = -1;
   ASSERT_TRUE(slab_robust(s, box_floats(kBox).f, 0.0f, kInf, entry));
-  EXPECT_FLOAT_EQ(entry, 0.5f);
+  // The entry distance is a lower bound of the exact 0.5, within the padding.
+  EXPECT_LE(entry, 0.5f);
+  EXPECT_GE(entry, 0.5f * (1.0f - 2.0f * float_gamma(3)));
+  // So a box whose face lies exactly at tmax is still hit.
+  EXPECT_TRUE(slab_robust(s, box_floats(kBox).f, 0.0f, 0.5f, entry));
+}
+
+// A box entered exactly at the closest hit so far (tmax) is never culled by
+// rounding of the near distance: rays aimed at points of the near face.
+TEST(SlabTest, NearFaceAtTmaxIsKept) {
+  const AABB box{{0.1f, 0.3f, -0.7f}, {0.9f, 1.7f, 0.123f}};
+  int culled = 0;
+  for (int i = 0; i < 4000; ++i) {
+    const float s = float(i % 61) / 61.0f, q = float(i % 53) / 53.0f;
+    const Vec3f target{box.min.x, box.min.y + s * (box.max.y - box.min.y),
+                       box.min.z + q * (box.max.z - box.min.z)};
+    const Vec3f org = target - Vec3f{1.0f + 0.37f * q, 0.3f * (s - 0.5f), 0.21f * (q - 0.4f)};
+    Ray r;
+    r.org = org;
+    r.dir = target - org;  // the face is reached at t = 1 (up to rounding of dir)
+    const SlabRay sr(r);
+    const double exact = (double(box.min.x) - double(org.x)) / double(r.dir.x);
+    float entry = 0.0f;
+    const bool hit = slab_robust(sr, box_floats(box).f, 0.0f, float(exact), entry);
+    culled += !hit || double(entry) > exact;
+  }
+  EXPECT_EQ(culled, 0);
 }
 
 // Rays aimed at points of a box edge from many directions: rounding in the

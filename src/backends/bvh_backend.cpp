@@ -11,7 +11,9 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
+#include <algorithm>
 #include <chrono>
+#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,7 +24,9 @@
 #include "bvh/refit.h"
 #include "bvh/refit_wide.h"
 #include "bvh/traverse.h"
+#include "bvh/traverse_packet.h"
 #include "bvh/traverse_wide.h"
+#include "core/ray_coherence.h"
 
 namespace hprt {
 namespace {
@@ -43,25 +47,67 @@ bool trace_one(const WideBvh<N>& bvh, const Ray& ray, Hit& hit) {
   return traverse_wide<Test, kAnyHit>(bvh, ray, hit);
 }
 
-template <typename Test, typename Bvh>
-void intersect_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<Hit> hits) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), kGrain),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        Hit h;
-                        if (ray_is_valid(rays[i])) trace_one<Test, false>(bvh, rays[i], h);
-                        hits[i] = h;
-                      }
-                    });
+// Packets need a wide layout and AVX-512 (traverse_packet.h).
+template <typename Bvh>
+constexpr bool kTracesPackets = false;
+#if defined(HPRT_HAS_PACKETS)
+template <int N>
+constexpr bool kTracesPackets<WideBvh<N>> = true;
+#endif
+
+// How far apart a packet's origins may be: the embree backend's fraction of
+// the scene's extent, with the root box in place of the scene's.
+template <typename Bvh>
+float packet_origin_tolerance(const Bvh& bvh) {
+  if constexpr (kTracesPackets<Bvh>) {
+    if (!bvh.root.is_inner()) return 0.0f;
+    const auto& root = bvh.nodes[bvh.root.index()];
+    float extent = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
+      for (int i = 0; i < Bvh::kWidth && !root.child[i].empty(); ++i) {
+        lo = std::min(lo, root.bounds[2 * a][i]);
+        hi = std::max(hi, root.bounds[2 * a + 1][i]);
+      }
+      extent = std::max(extent, hi - lo);
+    }
+    return kCoherentOriginFraction * extent;
+  }
+  return 0.0f;
 }
 
-template <typename Test, typename Bvh>
-void occluded_batch(const Bvh& bvh, std::span<const Ray> rays, std::span<uint8_t> out) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), kGrain),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        Hit h;
-                        out[i] = ray_is_valid(rays[i]) && trace_one<Test, true>(bvh, rays[i], h);
+// Rays go in fixed groups of kGroup (ray i in group i / kGroup, whatever the
+// thread count), as in the embree backend: where the layout traces packets, a
+// full group of coherent rays (core/ray_coherence.h) is one packet, with the
+// answers its rays get one by one; anything else is traced ray by ray.
+// kAnyHit writes `occluded`, otherwise `hits`.
+template <typename Test, bool kAnyHit, typename Bvh>
+void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* occluded) {
+  constexpr size_t kGroup = 16;
+  const float tolerance = packet_origin_tolerance(bvh);
+  const size_t groups = (rays.size() + kGroup - 1) / kGroup;
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, kGrain / kGroup),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t g = range.begin(); g != range.end(); ++g) {
+                        const size_t first = g * kGroup;
+                        const size_t count = std::min(kGroup, rays.size() - first);
+                        const Ray* r = rays.data() + first;
+                        if constexpr (kTracesPackets<Bvh>) {
+                          static_assert(kGroup == kPacketSize);
+                          if (count == kGroup && rays_coherent(r, kGroup, tolerance)) {
+                            traverse_packet<Test, kAnyHit>(bvh, r, hits + first, occluded + first);
+                            continue;
+                          }
+                        }
+                        for (size_t i = first; i < first + count; ++i) {
+                          Hit h;
+                          const bool found =
+                              ray_is_valid(rays[i]) && trace_one<Test, kAnyHit>(bvh, rays[i], h);
+                          if constexpr (kAnyHit)
+                            occluded[i] = found;
+                          else
+                            hits[i] = h;
+                        }
                       }
                     });
 }
@@ -134,9 +180,9 @@ class BvhIntersector final : public Intersector {
       throw std::invalid_argument("intersect: fewer hit slots than rays");
     with_layout(*this, [&](const auto& bvh) {
       if (options_.triangle_test == TriangleTestKind::kMoller)
-        intersect_batch<MollerTest>(bvh, rays, hits);
+        trace_batch<MollerTest, false>(bvh, rays, hits.data(), nullptr);
       else
-        intersect_batch<WatertightTest>(bvh, rays, hits);
+        trace_batch<WatertightTest, false>(bvh, rays, hits.data(), nullptr);
     });
   }
 
@@ -145,9 +191,9 @@ class BvhIntersector final : public Intersector {
       throw std::invalid_argument("occluded: fewer result slots than rays");
     with_layout(*this, [&](const auto& bvh) {
       if (options_.triangle_test == TriangleTestKind::kMoller)
-        occluded_batch<MollerTest>(bvh, rays, result);
+        trace_batch<MollerTest, true>(bvh, rays, nullptr, result.data());
       else
-        occluded_batch<WatertightTest>(bvh, rays, result);
+        trace_batch<WatertightTest, true>(bvh, rays, nullptr, result.data());
     });
   }
 

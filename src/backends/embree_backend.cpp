@@ -18,6 +18,7 @@
 #include "backends/embree_device.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/ray_coherence.h"
 
 namespace hprt {
 namespace {
@@ -164,21 +165,7 @@ class EmbreeIntersector final : public Intersector {
     std::vector<Vec3f> copy;  // only for meshes not padded for Embree
   };
 
-  // 16 valid rays whose origins lie within 1/1000 of the scene's extent of
-  // the first one's and whose directions are within ~25 degrees (cos >= 0.9)
-  // of the first one's: camera rays, not random or scattered ones.
-  bool coherent(const Ray* r) const {
-    if (!ray_valid(r[0])) return false;
-    const Vec3f d0 = normalize(r[0].dir);  // tiny or huge dirs give NaN below
-    for (size_t i = 1; i < kPacket; ++i) {
-      if (!ray_valid(r[i])) return false;
-      const Vec3f o = r[i].org - r[0].org;
-      if (std::max({std::fabs(o.x), std::fabs(o.y), std::fabs(o.z)}) > coherent_origin_)
-        return false;
-      if (!(dot(normalize(r[i].dir), d0) >= 0.9f)) return false;  // NaN: not coherent
-    }
-    return true;
-  }
+  bool coherent(const Ray* r) const { return rays_coherent(r, kPacket, coherent_origin_); }
 
   void intersect_one(RTCIntersectContext& context, const Ray& r, Hit& h) const {
     h = Hit{};
@@ -334,7 +321,7 @@ class EmbreeIntersector final : public Intersector {
     rtcCommitScene(scene_);
     device_.check("rtcCommitScene");
     const AABB box = scene.bounds();
-    coherent_origin_ = box.empty() ? 0.0f : 1e-3f * max_component(box.diagonal());
+    coherent_origin_ = box.empty() ? 0.0f : kCoherentOriginFraction * max_component(box.diagonal());
   }
 
   BackendOptions options_;

@@ -1,6 +1,6 @@
 // What both traversals (binary and wide) do at a leaf: test its triangles in
-// order, shrinking tfar to each closer hit, and keep the closest; the Hit is
-// written once, when the traversal ends.
+// order, shrinking tfar to each closer hit, and keep the closest, the
+// smallest (t, leaf index); the Hit is written once, when the traversal ends.
 #pragma once
 
 #include <cstdint>
@@ -45,6 +45,11 @@ HPRT_FORCE_INLINE bool intersect_leaf(const typename Test::Prepared& prep,
     if constexpr (kStats) ++stats->triangles;
     TriangleHit h;
     if (Test::intersect(prep, tris, i, tnear, tfar, h)) {
+      // A hit at the same t as the closest (a shared edge or vertex) wins only
+      // with a lower leaf index, so the answer does not depend on the order
+      // in which leaves were visited (single rays and packets agree).
+      if constexpr (!kAnyHit)
+        if (closest.found && h.t == closest.best.t && i > closest.index) continue;
       if (!closest.found) __builtin_prefetch(&tris.refs[i]);  // read once, at the end
       closest.found = true;
       closest.index = i;

@@ -9,7 +9,10 @@
 // - Conservative: the far distances use the reciprocal scaled by 1 + 2·gamma(3)
 //   (Ize, "Robust BVH Ray Traversal", JCGT 2013; gamma(n) = n·eps / (1 - n·eps),
 //   eps = 2^-24 as in pbrt-v4), so rounding in (plane - org) * rcp never loses
-//   a box the exact ray touches.
+//   a box the exact ray touches; the near distances use it scaled by
+//   1 - 2·gamma(3), so the entry distance is never above the exact one and a
+//   box is not skipped when a hit on its face equals the closest t so far
+//   (ties then go by leaf index whatever the visiting order, leaf_intersect.h).
 #pragma once
 
 #include <cmath>
@@ -32,6 +35,9 @@ constexpr float float_gamma(int n) {
   return (float(n) * kEps) / (1.0f - float(n) * kEps);
 }
 
+inline constexpr float kSlabNearPad = 1.0f - 2.0f * float_gamma(3);
+inline constexpr float kSlabFarPad = 1.0f + 2.0f * float_gamma(3);
+
 // Slab values drop a NaN in `a` (the slab distance) and keep `b`.
 inline float robust_min(float a, float b) { return a < b ? a : b; }
 inline float robust_max(float a, float b) { return a > b ? a : b; }
@@ -50,8 +56,8 @@ inline BoxFloats box_floats(const AABB& b) {
 // Per-ray data for the slab test, computed once before traversal.
 struct SlabRay {
   Vec3f org;
-  Vec3f rcp;      // 1 / dir (±inf for ±0 components)
-  Vec3f rcp_far;  // rcp * (1 + 2·gamma(3)) for the far planes (Ize 2013)
+  Vec3f rcp_near;  // (1 / dir) * (1 - 2·gamma(3)) for the near planes (±inf for ±0)
+  Vec3f rcp_far;   // (1 / dir) * (1 + 2·gamma(3)) for the far planes (Ize 2013)
   // Octant: float offsets of the near and far plane per axis. The near plane
   // is the box maximum when the direction's sign bit is set (-0 included).
   int near_off[3] = {0, 1, 2};
@@ -59,10 +65,10 @@ struct SlabRay {
 
   SlabRay() = default;
   HPRT_FORCE_INLINE explicit SlabRay(const Ray& r) : org(r.org) {
-    constexpr float kPad = 1.0f + 2.0f * float_gamma(3);
     for (int a = 0; a < 3; ++a) {
-      rcp[a] = 1.0f / r.dir[a];
-      rcp_far[a] = rcp[a] * kPad;
+      const float rcp = 1.0f / r.dir[a];
+      rcp_near[a] = rcp * kSlabNearPad;
+      rcp_far[a] = rcp * kSlabFarPad;
       const bool neg = std::signbit(r.dir[a]);
       near_off[a] = a + (neg ? kSlabHiOffset : 0);
       far_off[a] = a + (neg ? 0 : kSlabHiOffset);
@@ -74,9 +80,9 @@ struct SlabRay {
 // max(tmin, box entry distance) for near-first ordering and early exit.
 HPRT_FORCE_INLINE bool slab_robust(const SlabRay& r, const float* box, float tmin, float tmax,
                                    float& entry) {
-  const float tnx = (box[r.near_off[0]] - r.org.x) * r.rcp.x;
-  const float tny = (box[r.near_off[1]] - r.org.y) * r.rcp.y;
-  const float tnz = (box[r.near_off[2]] - r.org.z) * r.rcp.z;
+  const float tnx = (box[r.near_off[0]] - r.org.x) * r.rcp_near.x;
+  const float tny = (box[r.near_off[1]] - r.org.y) * r.rcp_near.y;
+  const float tnz = (box[r.near_off[2]] - r.org.z) * r.rcp_near.z;
   const float tfx = (box[r.far_off[0]] - r.org.x) * r.rcp_far.x;
   const float tfy = (box[r.far_off[1]] - r.org.y) * r.rcp_far.y;
   const float tfz = (box[r.far_off[2]] - r.org.z) * r.rcp_far.z;
@@ -95,12 +101,13 @@ HPRT_FORCE_INLINE bool slab_robust(const SlabRay& r, const float* box, float tmi
 // the slab value first, so NaN slab distances drop out exactly as in
 // slab_robust(), and the result equals two slab_robust() calls.
 struct SlabRayPair {
-  __m256 org, rcp, rcp_far;
+  __m256 org, rcp_near, rcp_far;
   __m256i perm;
 
   HPRT_FORCE_INLINE explicit SlabRayPair(const SlabRay& r) {
     org = _mm256_setr_ps(r.org.x, r.org.y, r.org.z, r.org.x, r.org.x, r.org.y, r.org.z, r.org.x);
-    rcp = _mm256_setr_ps(r.rcp.x, r.rcp.y, r.rcp.z, r.rcp.x, r.rcp.x, r.rcp.y, r.rcp.z, r.rcp.x);
+    rcp_near = _mm256_setr_ps(r.rcp_near.x, r.rcp_near.y, r.rcp_near.z, r.rcp_near.x, r.rcp_near.x,
+                              r.rcp_near.y, r.rcp_near.z, r.rcp_near.x);
     rcp_far = _mm256_setr_ps(r.rcp_far.x, r.rcp_far.y, r.rcp_far.z, r.rcp_far.x, r.rcp_far.x,
                              r.rcp_far.y, r.rcp_far.z, r.rcp_far.x);
     perm = _mm256_setr_epi32(r.near_off[0], r.near_off[1], r.near_off[2], r.near_off[0],
@@ -116,7 +123,7 @@ HPRT_FORCE_INLINE int slab_robust_pair(const SlabRayPair& r, const float* box0, 
   const __m256 b = _mm256_permutevar8x32_ps(_mm256_load_ps(box1), r.perm);
   const __m256 near_planes = _mm256_permute2f128_ps(a, b, 0x20);
   const __m256 far_planes = _mm256_permute2f128_ps(a, b, 0x31);
-  __m256 tn = _mm256_mul_ps(_mm256_sub_ps(near_planes, r.org), r.rcp);
+  __m256 tn = _mm256_mul_ps(_mm256_sub_ps(near_planes, r.org), r.rcp_near);
   __m256 tf = _mm256_mul_ps(_mm256_sub_ps(far_planes, r.org), r.rcp_far);
   tn = _mm256_max_ps(tn, _mm256_set1_ps(tmin));  // NaN lanes -> tmin
   tf = _mm256_min_ps(tf, _mm256_set1_ps(tmax));  // NaN lanes -> tmax

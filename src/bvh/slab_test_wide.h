@@ -44,9 +44,9 @@ HPRT_FORCE_INLINE unsigned slab_wide(const WideSlabRay& r, const WideNode<N>& no
                                      float tmax, float* entry) {
   unsigned mask = 0;
   for (int i = 0; i < N; ++i) {
-    const float tnx = (node.bounds[r.near_row[0]][i] - r.s.org.x) * r.s.rcp.x;
-    const float tny = (node.bounds[r.near_row[1]][i] - r.s.org.y) * r.s.rcp.y;
-    const float tnz = (node.bounds[r.near_row[2]][i] - r.s.org.z) * r.s.rcp.z;
+    const float tnx = (node.bounds[r.near_row[0]][i] - r.s.org.x) * r.s.rcp_near.x;
+    const float tny = (node.bounds[r.near_row[1]][i] - r.s.org.y) * r.s.rcp_near.y;
+    const float tnz = (node.bounds[r.near_row[2]][i] - r.s.org.z) * r.s.rcp_near.z;
     const float tfx = (node.bounds[r.far_row[0]][i] - r.s.org.x) * r.s.rcp_far.x;
     const float tfy = (node.bounds[r.far_row[1]][i] - r.s.org.y) * r.s.rcp_far.y;
     const float tfz = (node.bounds[r.far_row[2]][i] - r.s.org.z) * r.s.rcp_far.z;
@@ -68,9 +68,9 @@ HPRT_FORCE_INLINE unsigned slab_wide<4>(const WideSlabRay& r, const WideNode<4>&
     return _mm_mul_ps(_mm_sub_ps(_mm_load_ps(node.bounds[row]), _mm_set1_ps(o)), _mm_set1_ps(rcp));
   };
   const __m128 tn = _mm_max_ps(
-      plane(r.near_row[0], r.s.org.x, r.s.rcp.x),
-      _mm_max_ps(plane(r.near_row[1], r.s.org.y, r.s.rcp.y),
-                 _mm_max_ps(plane(r.near_row[2], r.s.org.z, r.s.rcp.z), _mm_set1_ps(tmin))));
+      plane(r.near_row[0], r.s.org.x, r.s.rcp_near.x),
+      _mm_max_ps(plane(r.near_row[1], r.s.org.y, r.s.rcp_near.y),
+                 _mm_max_ps(plane(r.near_row[2], r.s.org.z, r.s.rcp_near.z), _mm_set1_ps(tmin))));
   const __m128 tf = _mm_min_ps(
       plane(r.far_row[0], r.s.org.x, r.s.rcp_far.x),
       _mm_min_ps(plane(r.far_row[1], r.s.org.y, r.s.rcp_far.y),
@@ -89,10 +89,10 @@ HPRT_FORCE_INLINE unsigned slab_wide<8>(const WideSlabRay& r, const WideNode<8>&
                          _mm256_set1_ps(rcp));
   };
   const __m256 tn = _mm256_max_ps(
-      plane(r.near_row[0], r.s.org.x, r.s.rcp.x),
+      plane(r.near_row[0], r.s.org.x, r.s.rcp_near.x),
       _mm256_max_ps(
-          plane(r.near_row[1], r.s.org.y, r.s.rcp.y),
-          _mm256_max_ps(plane(r.near_row[2], r.s.org.z, r.s.rcp.z), _mm256_set1_ps(tmin))));
+          plane(r.near_row[1], r.s.org.y, r.s.rcp_near.y),
+          _mm256_max_ps(plane(r.near_row[2], r.s.org.z, r.s.rcp_near.z), _mm256_set1_ps(tmin))));
   const __m256 tf = _mm256_min_ps(
       plane(r.far_row[0], r.s.org.x, r.s.rcp_far.x),
       _mm256_min_ps(

@@ -1,0 +1,247 @@
+// Packet traversal of the wide layout for coherent rays (camera rays): 16
+// rays go down the tree together, one AVX-512 lane per ray, so each node is
+// fetched once for all of them and each of its child boxes is tested against
+// the 16 rays in one pass (Wald, Slusallek, Benthin & Wagner, "Interactive
+// Rendering with Coherent Ray Tracing", EG 2001; Embree's rtcIntersect16).
+//
+// Per lane, every operation is the single-ray one: the child box test is
+// slab_robust()'s (the lane's own octant picks the near and far planes, the
+// far ones use the Ize-padded reciprocal, NaN slab values dropped) and the
+// leaf runs the same triangle test with the lane's own Prepared state and
+// interval. Children are entered nearest first by their smallest entry
+// distance over the packet's lanes; a stack entry keeps every lane's entry
+// distance, so a popped node only goes on with the lanes whose closest hit is
+// not already nearer. Lanes take part in a node only if their own ray hits its
+// box, so each ray tests the triangles it would alone, maybe in another order;
+// the closest hit is the smallest (t, leaf index) either way (leaf_intersect.h
+// breaks ties by leaf index), so a packet answers exactly as its rays traced
+// one by one.
+//
+// Built only where AVX-512F is available (HPRT_HAS_PACKETS); the backend
+// traces rays one by one elsewhere.
+#pragma once
+
+#if defined(__AVX512F__)
+#define HPRT_HAS_PACKETS 1
+
+#include <immintrin.h>
+
+#include <cstdint>
+#include <limits>
+
+#include "bvh/build_tree.h"
+#include "bvh/leaf_intersect.h"
+#include "bvh/slab_test.h"
+#include "bvh/traverse_wide.h"
+#include "bvh/wide_bvh.h"
+#include "core/force_inline.h"
+#include "core/hit.h"
+#include "core/ray.h"
+
+namespace hprt {
+
+inline constexpr int kPacketSize = 16;
+
+namespace detail {
+
+// The packet's rays as lanes: SlabRay's fields, the interval, and each lane's
+// triangle-test state.
+template <typename Test>
+struct RayPacket {
+  __m512 org[3], rcp_near[3], rcp_far[3];
+  __mmask16 neg[3];  // direction sign bit set: the near plane is the box maximum
+  __m512 tnear;
+  float tnear_lane[kPacketSize];
+  typename Test::Prepared prep[kPacketSize];
+
+  const Ray* rays;
+  __mmask16 prepared = 0;  // lanes whose `prep` is set (on their first leaf)
+
+  HPRT_FORCE_INLINE explicit RayPacket(const Ray* r) : rays(r) {
+    alignas(64) float o[3][kPacketSize], d[3][kPacketSize];
+    for (int l = 0; l < kPacketSize; ++l) {
+      for (int a = 0; a < 3; ++a) {
+        o[a][l] = rays[l].org[a];
+        d[a][l] = rays[l].dir[a];
+      }
+      tnear_lane[l] = rays[l].tnear;
+    }
+    for (int a = 0; a < 3; ++a) {
+      const __m512 dir = _mm512_load_ps(d[a]);
+      org[a] = _mm512_load_ps(o[a]);
+      const __m512 rcp = _mm512_div_ps(_mm512_set1_ps(1.0f), dir);  // correctly rounded
+      rcp_near[a] = _mm512_mul_ps(rcp, _mm512_set1_ps(kSlabNearPad));
+      rcp_far[a] = _mm512_mul_ps(rcp, _mm512_set1_ps(kSlabFarPad));
+      neg[a] = _mm512_cmplt_epi32_mask(_mm512_castps_si512(dir), _mm512_setzero_si512());
+    }
+    tnear = _mm512_loadu_ps(tnear_lane);
+  }
+
+  // Triangle-test state for the lanes of `lanes`: most rays of a packet that
+  // misses the mesh never reach a leaf.
+  HPRT_FORCE_INLINE void prepare(__mmask16 lanes) {
+    for (unsigned m = lanes & ~prepared; m; m &= m - 1) {
+      const int l = __builtin_ctz(m);
+      prep[l] = Test::prepare(rays[l]);
+    }
+    prepared |= lanes;
+  }
+};
+
+// _mm512_max_ps / _mm512_min_ps without their undefined pass-through operand,
+// which g++ 12 reports as maybe-uninitialized. Per lane `a > b ? a : b` and
+// `a < b ? a : b`: robust_max / robust_min with the slab value first.
+HPRT_FORCE_INLINE __m512 max16(__m512 a, __m512 b) { return _mm512_mask_max_ps(b, 0xFFFF, a, b); }
+HPRT_FORCE_INLINE __m512 min16(__m512 a, __m512 b) { return _mm512_mask_min_ps(b, 0xFFFF, a, b); }
+
+// The smallest of the lanes of `m` (+inf for none), by shuffles (the mask
+// variants, for the same reason as above).
+HPRT_FORCE_INLINE float masked_min16(__mmask16 m, __m512 v) {
+  v = _mm512_mask_mov_ps(_mm512_set1_ps(std::numeric_limits<float>::infinity()), m, v);
+  v = min16(v, _mm512_mask_shuffle_f32x4(v, 0xFFFF, v, v, 0x4E));
+  v = min16(v, _mm512_mask_shuffle_f32x4(v, 0xFFFF, v, v, 0xB1));
+  v = min16(v, _mm512_mask_permute_ps(v, 0xFFFF, v, 0x4E));
+  v = min16(v, _mm512_mask_permute_ps(v, 0xFFFF, v, 0xB1));
+  return _mm512_cvtss_f32(v);
+}
+
+// slab_robust() per lane against child i of `node`: the lanes of `active`
+// whose ray overlaps the box on [tnear, tfar]; entry = max(tnear, entry
+// distance) per lane.
+template <typename Test, int N>
+HPRT_FORCE_INLINE __mmask16 slab_packet(const RayPacket<Test>& p, const WideNode<N>& node, int i,
+                                        __m512 tfar, __mmask16 active, __m512& entry) {
+  __m512 tn[3], tf[3];
+  for (int a = 0; a < 3; ++a) {
+    const __m512 lo = _mm512_set1_ps(node.bounds[2 * a][i]);
+    const __m512 hi = _mm512_set1_ps(node.bounds[2 * a + 1][i]);
+    const __m512 near_plane = _mm512_mask_blend_ps(p.neg[a], lo, hi);
+    const __m512 far_plane = _mm512_mask_blend_ps(p.neg[a], hi, lo);
+    tn[a] = _mm512_mul_ps(_mm512_sub_ps(near_plane, p.org[a]), p.rcp_near[a]);
+    tf[a] = _mm512_mul_ps(_mm512_sub_ps(far_plane, p.org[a]), p.rcp_far[a]);
+  }
+  const __m512 t0 = max16(tn[0], max16(tn[1], max16(tn[2], p.tnear)));
+  const __m512 t1 = min16(tf[0], min16(tf[1], min16(tf[2], tfar)));
+  entry = t0;
+  return _mm512_mask_cmp_ps_mask(active, t0, t1, _CMP_LE_OQ);
+}
+
+struct alignas(64) PacketStackEntry {
+  __m512 entry;
+  uint64_t ref;
+  __mmask16 lanes;  // the lanes that hit the node
+};
+
+}  // namespace detail
+
+// Traces rays[0..16), all valid (ray_is_valid). Closest hit: hits[l] is set for
+// every lane (a miss is Hit{}). Any hit: occluded[l] is 1 or 0. `hits` is used
+// only without kAnyHit, `occluded` only with it.
+template <typename Test, bool kAnyHit, int N>
+void traverse_packet(const WideBvh<N>& bvh, const Ray* rays, Hit* hits, uint8_t* occluded) {
+  constexpr float kInf = std::numeric_limits<float>::infinity();
+  ClosestHit closest[kPacketSize];
+  if (bvh.empty()) {
+    for (int l = 0; l < kPacketSize; ++l) {
+      if constexpr (kAnyHit)
+        occluded[l] = 0;
+      else
+        hits[l] = Hit{};
+    }
+    return;
+  }
+  const WideNode<N>* nodes = bvh.nodes.data();
+  const LeafTriangles& tris = bvh.triangles;
+  detail::RayPacket<Test> packet(rays);
+  alignas(64) float tfar_lane[kPacketSize];
+  for (int l = 0; l < kPacketSize; ++l) tfar_lane[l] = rays[l].tfar;
+  __m512 tfar = _mm512_load_ps(tfar_lane);
+  __mmask16 done = 0;  // any hit: lanes already occluded
+
+  detail::PacketStackEntry stack[1 + (N - 1) * kMaxBuildDepth];
+  int sp = 0;
+  NodeRef cur = bvh.root;
+  __mmask16 active = 0xFFFF;
+  for (;;) {
+    while (cur.is_inner()) {
+      const WideNode<N>& node = nodes[cur.index()];
+      __m512 entry[N];
+      float key[N];
+      __mmask16 hit[N];
+      int order[N];
+      int count = 0;
+      for (int i = 0; i < N && !node.child[i].empty(); ++i) {
+        hit[i] = detail::slab_packet(packet, node, i, tfar, active, entry[i]);
+        if (!hit[i]) continue;
+        const NodeRef c = node.child[i];
+        if (c.is_leaf())
+          Test::prefetch(tris, c.index(), c.count());
+        else
+          detail::prefetch_node(&nodes[c.index()]);
+        order[count++] = i;
+      }
+      if (count == 0) {
+        cur = NodeRef{};
+        break;
+      }
+      if (!kAnyHit && count > 1) {
+        // Nearest first: insertion sort of at most N keys.
+        for (int k = 0; k < count; ++k)
+          key[order[k]] = detail::masked_min16(hit[order[k]], entry[order[k]]);
+        for (int a = 1; a < count; ++a) {
+          const int o = order[a];
+          int b = a;
+          for (; b > 0 && key[order[b - 1]] > key[o]; --b) order[b] = order[b - 1];
+          order[b] = o;
+        }
+      }
+      for (int k = count - 1; k > 0; --k) {
+        const int i = order[k];
+        stack[sp].entry = entry[i];
+        stack[sp].ref = node.child[i].bits;
+        stack[sp].lanes = hit[i];
+        ++sp;
+      }
+      cur = node.child[order[0]];
+      active = hit[order[0]];
+    }
+    if (cur.is_leaf()) {
+      packet.prepare(active);
+      const uint32_t end = cur.index() + cur.count();
+      for (uint32_t i = cur.index(); i < end && active; ++i) {
+        for (unsigned m = active; m; m &= m - 1) {
+          const int l = __builtin_ctz(m);
+          if (intersect_leaf<Test, kAnyHit, false>(packet.prep[l], tris, i, 1, packet.tnear_lane[l],
+                                                   tfar_lane[l], closest[l], nullptr)) {
+            tfar_lane[l] = -kInf;  // occluded: this lane is done
+            done |= __mmask16(1u << l);
+            active &= __mmask16(~(1u << l));
+          }
+        }
+      }
+      if constexpr (kAnyHit)
+        if (done == 0xFFFF) break;
+      tfar = _mm512_load_ps(tfar_lane);
+    }
+    // Pop the next entry that may still hold a closer hit for some lane.
+    active = 0;
+    while (sp > 0 && !active) {
+      --sp;
+      active = _mm512_mask_cmp_ps_mask(stack[sp].lanes, stack[sp].entry, tfar, _CMP_LE_OQ);
+    }
+    if (!active) break;
+    cur = NodeRef{stack[sp].ref};
+  }
+  for (int l = 0; l < kPacketSize; ++l) {
+    if constexpr (kAnyHit) {
+      occluded[l] = (done >> l) & 1;
+    } else {
+      hits[l] = Hit{};
+      if (closest[l].found) closest[l].store(tris, hits[l]);
+    }
+  }
+}
+
+}  // namespace hprt
+
+#endif  // __AVX512F__
