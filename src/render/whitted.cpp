@@ -106,11 +106,15 @@ class WhittedTracer {
     s.accum.assign(n_pixels, Vec3f(0.0f));
     s.rays.clear();
     s.paths.clear();
-    for (int y = tile.y0; y < tile.y1; ++y)
-      for (int x = tile.x0; x < tile.x1; ++x) {
-        s.rays.push_back(rays_.pixel_ray(x, y));
-        s.paths.push_back({uint32_t((y - tile.y0) * tw + (x - tile.x0)), 1.0f});
-      }
+    // 4x4 pixel blocks, so each group of 16 consecutive rays (a packet, when
+    // the backend traces packets) covers a square patch of the image.
+    for (int by = tile.y0; by < tile.y1; by += 4)
+      for (int bx = tile.x0; bx < tile.x1; bx += 4)
+        for (int y = by; y < std::min(by + 4, tile.y1); ++y)
+          for (int x = bx; x < std::min(bx + 4, tile.x1); ++x) {
+            s.rays.push_back(rays_.pixel_ray(x, y));
+            s.paths.push_back({uint32_t((y - tile.y0) * tw + (x - tile.x0)), 1.0f});
+          }
     stats.primary_rays += s.rays.size();
 
     for (int depth = 0; !s.rays.empty(); ++depth) {
