@@ -1,12 +1,13 @@
-// Packet traversal of the wide layout for coherent rays (camera rays): 16
+// Packet traversal of the wide layout for coherent rays (camera rays, and the
+// shadow and mirror rays of neighbouring pixels): 16
 // rays go down the tree together, one AVX-512 lane per ray, so each node is
 // fetched once for all of them and each of its child boxes is tested against
 // the 16 rays in one pass (Wald, Slusallek, Benthin & Wagner, "Interactive
 // Rendering with Coherent Ray Tracing", EG 2001; Embree's rtcIntersect16).
 //
 // Per lane, every operation is the single-ray one: the child box test is
-// slab_robust()'s (the lane's own octant picks the near and far planes, the
-// far ones use the Ize-padded reciprocal, NaN slab values dropped) and the
+// slab_robust()'s (the lane's own octant picks the near and far planes, each
+// with its padded reciprocal, NaN slab values dropped) and the
 // leaf runs the same triangle test with the lane's own Prepared state and
 // interval. Children are entered nearest first by their smallest entry
 // distance over the packet's lanes; a stack entry keeps every lane's entry
