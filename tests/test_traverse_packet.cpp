@@ -12,6 +12,7 @@
 #include "bvh/flatten_wide.h"
 #include "bvh/traverse_packet.h"
 #include "bvh/traverse_wide.h"
+#include "bvh/triangle_test_packet.h"
 #include "bvh_test_meshes.h"
 #include "bvh_trace_helpers.h"
 
@@ -132,6 +133,69 @@ TEST(TraversePacket, HardLanesMatchSingleRays) {
   expect_packets_match_single<WatertightTest>(w8, limited, "limited");
   expect_packets_match_single<MollerTest>(w4, limited, "limited mt");
   expect_packets_match_single<WatertightTest>(w8, on_surface, "on surface");
+}
+
+// The 16-lane watertight test against the scalar one, bit for bit: rays
+// through a fan of triangles sharing edges and a vertex (hits exactly on
+// edges, ties), degenerate triangles, intervals ending at the hit.
+TEST(WatertightLanes, MatchesScalarTestBitForBit) {
+  test::Rng rng(77);
+  LeafTriangles tris;
+  const Vec3f centre{0.3f, -0.2f, 2.0f};
+  std::vector<TriangleVerts> verts;
+  for (int k = 0; k < 12; ++k) {  // a fan around `centre`
+    const float a0 = 0.5236f * k, a1 = 0.5236f * (k + 1);
+    verts.push_back({centre, centre + Vec3f{std::cos(a0), std::sin(a0), 0.1f * k},
+                     centre + Vec3f{std::cos(a1), std::sin(a1), 0.1f * (k + 1)}});
+  }
+  verts.push_back({centre, centre, centre + Vec3f{1, 0, 0}});                   // zero area
+  verts.push_back({centre, centre + Vec3f{1, 1, 0}, centre + Vec3f{2, 2, 0}});  // a line
+  tris.allocate(verts.size());
+  for (size_t i = 0; i < verts.size(); ++i) tris.verts[i] = verts[i];
+  size_t hits = 0, compared = 0;
+  for (int round = 0; round < 400; ++round) {
+    // 16 rays from one eye, aimed at fan vertices, edge points and interiors;
+    // the eye moves round the fan so every (kx, ky, kz) occurs.
+    const Vec3f eye = centre + Vec3f{3.0f * (rng.uniform() - 0.5f), 3.0f * (rng.uniform() - 0.5f),
+                                     (round % 2 ? 4.0f : -4.0f) * (0.5f + rng.uniform())};
+    Ray rays[16];
+    WatertightTest::Prepared prep[16];
+    float tnear[16], tfar[16];
+    for (int l = 0; l < 16; ++l) {
+      const TriangleVerts& v = verts[size_t(rng.uniform() * 12) % 12];
+      const float s = (l % 4 == 0) ? 0.0f : rng.uniform(), q = (l % 3 == 0) ? 0.0f : rng.uniform();
+      const Vec3f target = v.v0 + (v.v1 - v.v0) * s + (v.v2 - v.v0) * (q * (1.0f - s));
+      rays[l].org = eye;
+      rays[l].dir = target - eye;
+      prep[l] = WatertightTest::prepare(rays[l]);
+      tnear[l] = l % 5 == 0 ? 0.5f : 0.0f;
+      tfar[l] = l % 7 == 0 ? 1.0f : 1e30f;
+    }
+    WatertightLanes lanes;
+    lanes.setup(prep, tnear);
+    bool same_axes = true;
+    for (int l = 1; l < 16; ++l)
+      same_axes = same_axes && prep[l].kx == prep[0].kx && prep[l].kz == prep[0].kz;
+    ASSERT_EQ(lanes.usable(), same_axes);
+    if (!lanes.usable()) continue;
+    for (uint32_t i = 0; i < verts.size(); ++i) {
+      alignas(64) float t[16], u[16], v[16];
+      const __mmask16 mask = lanes.intersect(tris, i, tfar, 0xFFFF, t, u, v);
+      for (int l = 0; l < 16; ++l) {
+        TriangleHit h{};
+        const bool hit = WatertightTest::intersect(prep[l], tris, i, tnear[l], tfar[l], h);
+        ++compared;
+        ASSERT_EQ(hit, bool((mask >> l) & 1)) << "round " << round << " triangle " << i;
+        if (!hit) continue;
+        ++hits;
+        EXPECT_EQ(std::memcmp(&h.t, &t[l], 4), 0);
+        EXPECT_EQ(std::memcmp(&h.u, &u[l], 4), 0);
+        EXPECT_EQ(std::memcmp(&h.v, &v[l], 4), 0);
+      }
+    }
+  }
+  EXPECT_GT(compared, 20000u);
+  EXPECT_GT(hits, compared / 40);
 }
 
 TEST(TraversePacket, EmptyTreeMissesEveryLane) {

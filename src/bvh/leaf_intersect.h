@@ -23,6 +23,13 @@ struct ClosestHit {
   uint32_t index = 0;  // leaf-order triangle
   TriangleHit best{};
 
+  // A hit at the closest t so far (a shared edge or vertex) wins only with a
+  // lower leaf index, so the answer does not depend on the order in which
+  // leaves were visited (single rays and packets agree).
+  HPRT_FORCE_INLINE bool loses_tie(uint32_t i, float t) const {
+    return found && t == best.t && i > index;
+  }
+
   HPRT_FORCE_INLINE void store(const LeafTriangles& tris, Hit& hit) const {
     hit.t = best.t;
     hit.u = best.u;
@@ -45,11 +52,8 @@ HPRT_FORCE_INLINE bool intersect_leaf(const typename Test::Prepared& prep,
     if constexpr (kStats) ++stats->triangles;
     TriangleHit h;
     if (Test::intersect(prep, tris, i, tnear, tfar, h)) {
-      // A hit at the same t as the closest (a shared edge or vertex) wins only
-      // with a lower leaf index, so the answer does not depend on the order
-      // in which leaves were visited (single rays and packets agree).
       if constexpr (!kAnyHit)
-        if (closest.found && h.t == closest.best.t && i > closest.index) continue;
+        if (closest.loses_tie(i, h.t)) continue;
       if (!closest.found) __builtin_prefetch(&tris.refs[i]);  // read once, at the end
       closest.found = true;
       closest.index = i;

@@ -29,11 +29,13 @@
 
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 
 #include "bvh/build_tree.h"
 #include "bvh/leaf_intersect.h"
 #include "bvh/slab_test.h"
 #include "bvh/traverse_wide.h"
+#include "bvh/triangle_test_packet.h"
 #include "bvh/wide_bvh.h"
 #include "core/force_inline.h"
 #include "core/hit.h"
@@ -57,6 +59,10 @@ struct RayPacket {
 
   const Ray* rays;
   __mmask16 prepared = 0;  // lanes whose `prep` is set (on their first leaf)
+  // The watertight test over all lanes at once, set up with every lane's
+  // `prep` at the first leaf (usable when the lanes share their axes).
+  static constexpr bool kLaneTest = std::is_same_v<Test, WatertightTest>;
+  std::conditional_t<kLaneTest, WatertightLanes, bool> lanes{};
 
   HPRT_FORCE_INLINE explicit RayPacket(const Ray* r) : rays(r) {
     alignas(64) float o[3][kPacketSize], d[3][kPacketSize];
@@ -80,12 +86,15 @@ struct RayPacket {
 
   // Triangle-test state for the lanes of `lanes`: most rays of a packet that
   // misses the mesh never reach a leaf.
-  HPRT_FORCE_INLINE void prepare(__mmask16 lanes) {
-    for (unsigned m = lanes & ~prepared; m; m &= m - 1) {
+  HPRT_FORCE_INLINE void prepare(__mmask16 wanted) {
+    if constexpr (kLaneTest) wanted = 0xFFFF;
+    for (unsigned m = wanted & ~prepared; m; m &= m - 1) {
       const int l = __builtin_ctz(m);
       prep[l] = Test::prepare(rays[l]);
     }
-    prepared |= lanes;
+    if constexpr (kLaneTest)
+      if (prepared != 0xFFFF) lanes.setup(prep, tnear_lane);
+    prepared |= wanted;
   }
 };
 
@@ -209,7 +218,27 @@ void traverse_packet(const WideBvh<N>& bvh, const Ray* rays, Hit* hits, uint8_t*
     if (cur.is_leaf()) {
       packet.prepare(active);
       const uint32_t end = cur.index() + cur.count();
-      for (uint32_t i = cur.index(); i < end && active; ++i) {
+      bool all_lanes = false;
+      if constexpr (detail::RayPacket<Test>::kLaneTest) {
+        all_lanes = packet.lanes.usable();
+        alignas(64) float t[kPacketSize], u[kPacketSize], v[kPacketSize];
+        for (uint32_t i = cur.index(); i < end && active && all_lanes; ++i) {
+          const __mmask16 h = packet.lanes.intersect(tris, i, tfar_lane, active, t, u, v);
+          for (unsigned m = h; m; m &= m - 1) {
+            const int l = __builtin_ctz(m);
+            if (!kAnyHit && closest[l].loses_tie(i, t[l])) continue;
+            closest[l].found = true;
+            closest[l].index = i;
+            closest[l].best = TriangleHit{t[l], u[l], v[l]};
+            tfar_lane[l] = kAnyHit ? -kInf : t[l];
+            if constexpr (kAnyHit) {
+              done |= __mmask16(1u << l);
+              active &= __mmask16(~(1u << l));
+            }
+          }
+        }
+      }
+      for (uint32_t i = cur.index(); i < end && active && !all_lanes; ++i) {
         for (unsigned m = active; m; m &= m - 1) {
           const int l = __builtin_ctz(m);
           if (intersect_leaf<Test, kAnyHit, false>(packet.prep[l], tris, i, 1, packet.tnear_lane[l],

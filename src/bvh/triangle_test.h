@@ -92,7 +92,10 @@ struct WatertightTest {
     if (det == 0.0) return false;
     const double az = double(p.sz) * a[p.kz], bz = double(p.sz) * b[p.kz],
                  cz = double(p.sz) * c[p.kz];
-    const double tt = u * az + v * bz + w * cz;
+    // Fused explicitly: left to the compiler, whether these products are
+    // contracted into FMAs depends on the inlining context, and the packet
+    // version (triangle_test_packet.h) must give the same bits.
+    const double tt = std::fma(w, cz, std::fma(v, bz, u * az));
     const double rcp = 1.0 / det;
     const float t = float(tt * rcp);
     if (!(tnear < t && t <= tfar)) return false;
