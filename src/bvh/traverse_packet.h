@@ -53,6 +53,11 @@ template <typename Test>
 struct RayPacket {
   __m512 org[3], rcp_near[3], rcp_far[3];
   __mmask16 neg[3];  // direction sign bit set: the near plane is the box maximum
+  // When every lane has the same direction signs (camera packets nearly
+  // always), the rows of WideNode::bounds holding each axis' near and far
+  // planes, so no per-lane select is needed.
+  bool same_octant = false;
+  int near_row[3] = {0, 2, 4}, far_row[3] = {1, 3, 5};
   __m512 tnear;
   float tnear_lane[kPacketSize];
   typename Test::Prepared prep[kPacketSize];
@@ -80,6 +85,13 @@ struct RayPacket {
       rcp_near[a] = _mm512_mul_ps(rcp, _mm512_set1_ps(kSlabNearPad));
       rcp_far[a] = _mm512_mul_ps(rcp, _mm512_set1_ps(kSlabFarPad));
       neg[a] = _mm512_cmplt_epi32_mask(_mm512_castps_si512(dir), _mm512_setzero_si512());
+    }
+    same_octant = true;
+    for (int a = 0; a < 3; ++a) {
+      same_octant = same_octant && (neg[a] == 0 || neg[a] == 0xFFFF);
+      const int is_neg = neg[a] ? 1 : 0;
+      near_row[a] = 2 * a + is_neg;
+      far_row[a] = 2 * a + 1 - is_neg;
     }
     tnear = _mm512_loadu_ps(tnear_lane);
   }
@@ -123,10 +135,16 @@ HPRT_FORCE_INLINE __mmask16 slab_packet(const RayPacket<Test>& p, const WideNode
                                         __m512 tfar, __mmask16 active, __m512& entry) {
   __m512 tn[3], tf[3];
   for (int a = 0; a < 3; ++a) {
-    const __m512 lo = _mm512_set1_ps(node.bounds[2 * a][i]);
-    const __m512 hi = _mm512_set1_ps(node.bounds[2 * a + 1][i]);
-    const __m512 near_plane = _mm512_mask_blend_ps(p.neg[a], lo, hi);
-    const __m512 far_plane = _mm512_mask_blend_ps(p.neg[a], hi, lo);
+    __m512 near_plane, far_plane;
+    if (p.same_octant) {
+      near_plane = _mm512_set1_ps(node.bounds[p.near_row[a]][i]);
+      far_plane = _mm512_set1_ps(node.bounds[p.far_row[a]][i]);
+    } else {
+      const __m512 lo = _mm512_set1_ps(node.bounds[2 * a][i]);
+      const __m512 hi = _mm512_set1_ps(node.bounds[2 * a + 1][i]);
+      near_plane = _mm512_mask_blend_ps(p.neg[a], lo, hi);
+      far_plane = _mm512_mask_blend_ps(p.neg[a], hi, lo);
+    }
     tn[a] = _mm512_mul_ps(_mm512_sub_ps(near_plane, p.org[a]), p.rcp_near[a]);
     tf[a] = _mm512_mul_ps(_mm512_sub_ps(far_plane, p.org[a]), p.rcp_far[a]);
   }
