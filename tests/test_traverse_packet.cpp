@@ -1,6 +1,6 @@
 // Packet traversal (bvh/traverse_packet.h) answers every ray exactly as the
-// single-ray wide traversal does: same hit or miss, same t, u, v and ids bit
-// for bit, same occlusion, for coherent and incoherent packets, mixed octants,
+// single-ray traversal of the same layout (bvh2, bvh4, bvh8) does: same hit or miss, same t, u, v
+// and ids bit for bit, same occlusion, for coherent and incoherent packets, mixed octants,
 // axis-parallel rays with ±0 components, per-lane intervals and origins on
 // the surface.
 #include <gtest/gtest.h>
@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "bvh/flatten_wide.h"
+#include "bvh/traverse.h"
 #include "bvh/traverse_packet.h"
 #include "bvh/traverse_wide.h"
 #include "bvh/triangle_test_packet.h"
@@ -21,11 +22,19 @@ using namespace hprt;
 #if defined(HPRT_HAS_PACKETS)
 namespace {
 
+template <typename Test, bool kAnyHit, int N>
+bool trace_single(const WideBvh<N>& w, const Ray& ray, Hit& hit) {
+  return traverse_wide<Test, kAnyHit>(w, ray, hit);
+}
+template <typename Test, bool kAnyHit>
+bool trace_single(const FlatBvh& b, const Ray& ray, Hit& hit) {
+  return traverse<Test, kAnyHit>(b, ray, hit);
+}
+
 // Traces `rays` (a multiple of 16, all valid) as packets and one by one;
 // returns how many rays hit.
-template <typename Test, int N>
-size_t expect_packets_match_single(const WideBvh<N>& w, const std::vector<Ray>& rays,
-                                   const char* what) {
+template <typename Test, typename Bvh>
+size_t expect_packets_match_single(const Bvh& w, const std::vector<Ray>& rays, const char* what) {
   EXPECT_EQ(rays.size() % kPacketSize, 0u);
   std::vector<Hit> packet_hits(rays.size());
   std::vector<uint8_t> packet_occ(rays.size(), 7);
@@ -37,8 +46,8 @@ size_t expect_packets_match_single(const WideBvh<N>& w, const std::vector<Ray>& 
   for (size_t i = 0; i < rays.size(); ++i) {
     EXPECT_TRUE(ray_is_valid(rays[i])) << what << " ray " << i;
     Hit single, any;
-    const bool found = traverse_wide<Test, false>(w, rays[i], single);
-    const bool occluded = traverse_wide<Test, true>(w, rays[i], any);
+    const bool found = trace_single<Test, false>(w, rays[i], single);
+    const bool occluded = trace_single<Test, true>(w, rays[i], any);
     EXPECT_EQ(found, occluded) << what << " ray " << i;
     hits += found;
     if (!found) single = Hit{};
@@ -55,7 +64,13 @@ void check_mesh(const std::vector<TriangleMesh>& meshes, int leaf, uint64_t seed
   BuildOptions o;
   o.max_leaf_size = leaf;
   const test::BuiltBvh b = test::build_flat(meshes, o);
-  const WideBvh<N> w = flatten_wide<N>(b.tree, b.prims, b.scene);
+  const auto layout = [&] {
+    if constexpr (N == 2)
+      return b.bvh;
+    else
+      return flatten_wide<N>(b.tree, b.prims, b.scene);
+  };
+  const auto w = layout();
   const AABB box = b.scene.bounds();
   const size_t coherent_hits =
       expect_packets_match_single<Test>(w, test::coherent_rays(box, 48, 32), "coherent");
@@ -74,6 +89,8 @@ TEST(TraversePacket, MatchesSingleRaysOnSoupGridAndSphere) {
     check_mesh<WatertightTest, 4>({test::grid(40, 40), test::icosphere(3)}, leaf, 13);
     check_mesh<MollerTest, 4>({test::icosphere(4)}, leaf, 14);
     check_mesh<WatertightTest, 8>({test::grid(64, 64)}, leaf, 15);
+    check_mesh<WatertightTest, 2>({test::random_soup(3000, 7, 0.05f)}, leaf, 16);
+    check_mesh<MollerTest, 2>({test::grid(40, 40), test::icosphere(3)}, leaf, 17);
   }
 }
 
@@ -133,6 +150,9 @@ TEST(TraversePacket, HardLanesMatchSingleRays) {
   expect_packets_match_single<WatertightTest>(w8, limited, "limited");
   expect_packets_match_single<MollerTest>(w4, limited, "limited mt");
   expect_packets_match_single<WatertightTest>(w8, on_surface, "on surface");
+  expect_packets_match_single<WatertightTest>(b.bvh, rays, "hard bvh2");
+  expect_packets_match_single<MollerTest>(b.bvh, limited, "limited bvh2 mt");
+  expect_packets_match_single<WatertightTest>(b.bvh, on_surface, "on surface bvh2");
 }
 
 // The 16-lane watertight test against the scalar one, bit for bit: rays
@@ -198,6 +218,18 @@ TEST(WatertightLanes, MatchesScalarTestBitForBit) {
   EXPECT_GT(hits, compared / 40);
 }
 
+// A tree that is a single leaf: the binary root's box is tested first, the
+// wide root is a leaf reference.
+TEST(TraversePacket, SingleLeafTrees) {
+  const test::BuiltBvh b = test::build_flat({test::grid(1, 1)}, BuildOptions{});
+  ASSERT_TRUE(b.bvh.nodes[0].is_leaf());
+  const WideBvh<8> w = flatten_wide<8>(b.tree, b.prims, b.scene);
+  ASSERT_TRUE(w.root.is_leaf());
+  const auto rays = test::coherent_rays(b.scene.bounds(), 16, 16);
+  EXPECT_GT((expect_packets_match_single<WatertightTest>(b.bvh, rays, "leaf bvh2")), 16u);
+  EXPECT_GT((expect_packets_match_single<MollerTest>(w, rays, "leaf bvh8")), 16u);
+}
+
 TEST(TraversePacket, EmptyTreeMissesEveryLane) {
   std::vector<Ray> rays(kPacketSize);
   for (Ray& r : rays) r.dir = {0, 0, 1};
@@ -205,6 +237,14 @@ TEST(TraversePacket, EmptyTreeMissesEveryLane) {
   std::vector<uint8_t> occ(kPacketSize, 1);
   traverse_packet<WatertightTest, false>(WideBvh<8>{}, rays.data(), hits.data(), nullptr);
   traverse_packet<WatertightTest, true>(WideBvh<4>{}, rays.data(), nullptr, occ.data());
+  for (int l = 0; l < kPacketSize; ++l) {
+    EXPECT_FALSE(hits[l].hit());
+    EXPECT_EQ(occ[l], 0);
+  }
+  hits.assign(kPacketSize, Hit{1.0f, 0.5f, 0.5f, 0, 0});
+  occ.assign(kPacketSize, 1);
+  traverse_packet<MollerTest, false>(FlatBvh{}, rays.data(), hits.data(), nullptr);
+  traverse_packet<MollerTest, true>(FlatBvh{}, rays.data(), nullptr, occ.data());
   for (int l = 0; l < kPacketSize; ++l) {
     EXPECT_FALSE(hits[l].hit());
     EXPECT_EQ(occ[l], 0);

@@ -47,33 +47,30 @@ bool trace_one(const WideBvh<N>& bvh, const Ray& ray, Hit& hit) {
   return traverse_wide<Test, kAnyHit>(bvh, ray, hit);
 }
 
-// Packets need a wide layout and AVX-512 (traverse_packet.h).
-template <typename Bvh>
-constexpr bool kTracesPackets = false;
+// Packets need AVX-512 (traverse_packet.h).
 #if defined(HPRT_HAS_PACKETS)
-template <int N>
-constexpr bool kTracesPackets<WideBvh<N>> = true;
+constexpr bool kTracesPackets = true;
+#else
+constexpr bool kTracesPackets = false;
 #endif
 
 // How far apart a packet's origins may be: the embree backend's fraction of
 // the scene's extent, with the root box in place of the scene's.
-template <typename Bvh>
-float packet_origin_tolerance(const Bvh& bvh) {
-  if constexpr (kTracesPackets<Bvh>) {
-    if (!bvh.root.is_inner()) return 0.0f;
-    const auto& root = bvh.nodes[bvh.root.index()];
-    float extent = 0.0f;
-    for (int a = 0; a < 3; ++a) {
-      float lo = std::numeric_limits<float>::infinity(), hi = -lo;
-      for (int i = 0; i < Bvh::kWidth && !root.child[i].empty(); ++i) {
-        lo = std::min(lo, root.bounds[2 * a][i]);
-        hi = std::max(hi, root.bounds[2 * a + 1][i]);
-      }
-      extent = std::max(extent, hi - lo);
-    }
-    return kCoherentOriginFraction * extent;
-  }
-  return 0.0f;
+inline float packet_origin_tolerance(const AABB& root) {
+  return root.empty() ? 0.0f : kCoherentOriginFraction * max_component(root.diagonal());
+}
+inline float packet_origin_tolerance(const FlatBvh& bvh) {
+  return bvh.empty() ? 0.0f : packet_origin_tolerance(AABB(bvh.nodes[0].min, bvh.nodes[0].max));
+}
+template <int N>
+float packet_origin_tolerance(const WideBvh<N>& bvh) {
+  if (!bvh.root.is_inner()) return 0.0f;
+  const WideNode<N>& root = bvh.nodes[bvh.root.index()];
+  AABB box;
+  for (int i = 0; i < N && !root.child[i].empty(); ++i)
+    box.extend(AABB(Vec3f{root.bounds[0][i], root.bounds[2][i], root.bounds[4][i]},
+                    Vec3f{root.bounds[1][i], root.bounds[3][i], root.bounds[5][i]}));
+  return packet_origin_tolerance(box);
 }
 
 // Rays go in fixed groups of kGroup (ray i in group i / kGroup, whatever the
@@ -92,7 +89,7 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                         const size_t first = g * kGroup;
                         const size_t count = std::min(kGroup, rays.size() - first);
                         const Ray* r = rays.data() + first;
-                        if constexpr (kTracesPackets<Bvh>) {
+                        if constexpr (kTracesPackets) {
                           static_assert(kGroup == kPacketSize);
                           if (count == kGroup && rays_coherent(r, kGroup, tolerance)) {
                             traverse_packet<Test, kAnyHit>(bvh, r, hits + first, occluded + first);

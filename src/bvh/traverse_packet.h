@@ -32,6 +32,7 @@
 #include <type_traits>
 
 #include "bvh/build_tree.h"
+#include "bvh/flat_bvh.h"
 #include "bvh/leaf_intersect.h"
 #include "bvh/slab_test.h"
 #include "bvh/traverse_wide.h"
@@ -54,8 +55,8 @@ struct RayPacket {
   __m512 org[3], rcp_near[3], rcp_far[3];
   __mmask16 neg[3];  // direction sign bit set: the near plane is the box maximum
   // When every lane has the same direction signs (camera packets nearly
-  // always), the rows of WideNode::bounds holding each axis' near and far
-  // planes, so no per-lane select is needed.
+  // always), each axis' near and far plane as a box row (2 * axis + 1 = the
+  // maximum), so no per-lane select is needed.
   bool same_octant = false;
   int near_row[3] = {0, 2, 4}, far_row[3] = {1, 3, 5};
   __m512 tnear;
@@ -127,21 +128,33 @@ HPRT_FORCE_INLINE float masked_min16(__mmask16 m, __m512 v) {
   return _mm512_cvtss_f32(v);
 }
 
-// slab_robust() per lane against child i of `node`: the lanes of `active`
-// whose ray overlaps the box on [tnear, tfar]; entry = max(tnear, entry
-// distance) per lane.
-template <typename Test, int N>
-HPRT_FORCE_INLINE __mmask16 slab_packet(const RayPacket<Test>& p, const WideNode<N>& node, int i,
-                                        __m512 tfar, __mmask16 active, __m512& entry) {
+// A child box as rows: plane(2 * axis) is its minimum on that axis,
+// plane(2 * axis + 1) its maximum.
+template <int N>
+struct WideSlot {
+  const WideNode<N>& node;
+  int i;
+  float plane(int row) const { return node.bounds[row][i]; }
+};
+struct BinaryBox {
+  const BinaryNode& node;
+  float plane(int row) const { return (row & 1) ? node.max[row >> 1] : node.min[row >> 1]; }
+};
+
+// slab_robust() per lane against `box`: the lanes of `active` whose ray
+// overlaps it on [tnear, tfar]; entry = max(tnear, entry distance) per lane.
+template <typename Test, typename Box>
+HPRT_FORCE_INLINE __mmask16 slab_packet(const RayPacket<Test>& p, const Box& box, __m512 tfar,
+                                        __mmask16 active, __m512& entry) {
   __m512 tn[3], tf[3];
   for (int a = 0; a < 3; ++a) {
     __m512 near_plane, far_plane;
     if (p.same_octant) {
-      near_plane = _mm512_set1_ps(node.bounds[p.near_row[a]][i]);
-      far_plane = _mm512_set1_ps(node.bounds[p.far_row[a]][i]);
+      near_plane = _mm512_set1_ps(box.plane(p.near_row[a]));
+      far_plane = _mm512_set1_ps(box.plane(p.far_row[a]));
     } else {
-      const __m512 lo = _mm512_set1_ps(node.bounds[2 * a][i]);
-      const __m512 hi = _mm512_set1_ps(node.bounds[2 * a + 1][i]);
+      const __m512 lo = _mm512_set1_ps(box.plane(2 * a));
+      const __m512 hi = _mm512_set1_ps(box.plane(2 * a + 1));
       near_plane = _mm512_mask_blend_ps(p.neg[a], lo, hi);
       far_plane = _mm512_mask_blend_ps(p.neg[a], hi, lo);
     }
@@ -154,6 +167,60 @@ HPRT_FORCE_INLINE __mmask16 slab_packet(const RayPacket<Test>& p, const WideNode
   return _mm512_mask_cmp_ps_mask(active, t0, t1, _CMP_LE_OQ);
 }
 
+// What the packet loop needs of a layout, with children named by NodeRef
+// (inner: the node whose children are tested next; leaf: its triangle range).
+template <typename Bvh>
+struct PacketNodes;
+
+template <int N>
+struct PacketNodes<WideBvh<N>> {
+  static constexpr int kMaxChildren = N;
+  static constexpr int kStackSize = 1 + (N - 1) * kMaxBuildDepth;
+  const WideBvh<N>& bvh;
+
+  // The root, and the lanes that enter it (the wide root has no box).
+  template <typename Test>
+  NodeRef root(const RayPacket<Test>&, __m512, __mmask16& lanes) const {
+    lanes = 0xFFFF;
+    return bvh.root;
+  }
+  // f(box, child ref) for each child of inner node `n`.
+  template <typename F>
+  HPRT_FORCE_INLINE void for_each_child(NodeRef n, F&& f) const {
+    const WideNode<N>& node = bvh.nodes[n.index()];
+    for (int i = 0; i < N && !node.child[i].empty(); ++i) f(WideSlot<N>{node, i}, node.child[i]);
+  }
+  HPRT_FORCE_INLINE void prefetch_inner(NodeRef c) const { prefetch_node(&bvh.nodes[c.index()]); }
+};
+
+template <>
+struct PacketNodes<FlatBvh> {
+  static constexpr int kMaxChildren = 2;
+  static constexpr int kStackSize = 1 + kMaxBuildDepth;
+  const FlatBvh& bvh;
+
+  static NodeRef ref_of(const BinaryNode& node, uint32_t index) {
+    return node.is_leaf() ? NodeRef::leaf(node.index, node.count) : NodeRef::inner(index);
+  }
+  // The root, and the lanes that hit its box.
+  template <typename Test>
+  NodeRef root(const RayPacket<Test>& p, __m512 tfar, __mmask16& lanes) const {
+    __m512 entry;
+    lanes = slab_packet(p, BinaryBox{bvh.nodes[0]}, tfar, 0xFFFF, entry);
+    return ref_of(bvh.nodes[0], 0);
+  }
+  template <typename F>
+  HPRT_FORCE_INLINE void for_each_child(NodeRef n, F&& f) const {
+    const uint32_t first = bvh.nodes[n.index()].index;  // children are adjacent
+    for (uint32_t k = 0; k < 2; ++k)
+      f(BinaryBox{bvh.nodes[first + k]}, ref_of(bvh.nodes[first + k], first + k));
+  }
+  // The child pair of inner node c: one 64-byte line.
+  HPRT_FORCE_INLINE void prefetch_inner(NodeRef c) const {
+    __builtin_prefetch(&bvh.nodes[bvh.nodes[c.index()].index]);
+  }
+};
+
 struct alignas(64) PacketStackEntry {
   __m512 entry;
   uint64_t ref;
@@ -165,8 +232,10 @@ struct alignas(64) PacketStackEntry {
 // Traces rays[0..16), all valid (ray_is_valid). Closest hit: hits[l] is set for
 // every lane (a miss is Hit{}). Any hit: occluded[l] is 1 or 0. `hits` is used
 // only without kAnyHit, `occluded` only with it.
-template <typename Test, bool kAnyHit, int N>
-void traverse_packet(const WideBvh<N>& bvh, const Ray* rays, Hit* hits, uint8_t* occluded) {
+template <typename Test, bool kAnyHit, typename Bvh>
+void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occluded) {
+  using Nodes = detail::PacketNodes<Bvh>;
+  constexpr int N = Nodes::kMaxChildren;
   constexpr float kInf = std::numeric_limits<float>::infinity();
   ClosestHit closest[kPacketSize];
   if (bvh.empty()) {
@@ -178,7 +247,7 @@ void traverse_packet(const WideBvh<N>& bvh, const Ray* rays, Hit* hits, uint8_t*
     }
     return;
   }
-  const WideNode<N>* nodes = bvh.nodes.data();
+  const Nodes layout{bvh};
   const LeafTriangles& tris = bvh.triangles;
   detail::RayPacket<Test> packet(rays);
   alignas(64) float tfar_lane[kPacketSize];
@@ -186,28 +255,31 @@ void traverse_packet(const WideBvh<N>& bvh, const Ray* rays, Hit* hits, uint8_t*
   __m512 tfar = _mm512_load_ps(tfar_lane);
   __mmask16 done = 0;  // any hit: lanes already occluded
 
-  detail::PacketStackEntry stack[1 + (N - 1) * kMaxBuildDepth];
+  detail::PacketStackEntry stack[Nodes::kStackSize];
   int sp = 0;
-  NodeRef cur = bvh.root;
-  __mmask16 active = 0xFFFF;
+  __mmask16 active = 0;
+  NodeRef cur = layout.root(packet, tfar, active);
+  if (!active) cur = NodeRef{};
   for (;;) {
     while (cur.is_inner()) {
-      const WideNode<N>& node = nodes[cur.index()];
       __m512 entry[N];
       float key[N];
       __mmask16 hit[N];
+      NodeRef child[N];
       int order[N];
-      int count = 0;
-      for (int i = 0; i < N && !node.child[i].empty(); ++i) {
-        hit[i] = detail::slab_packet(packet, node, i, tfar, active, entry[i]);
-        if (!hit[i]) continue;
-        const NodeRef c = node.child[i];
-        if (c.is_leaf())
-          Test::prefetch(tris, c.index(), c.count());
-        else
-          detail::prefetch_node(&nodes[c.index()]);
-        order[count++] = i;
-      }
+      int count = 0, i = 0;
+      layout.for_each_child(cur, [&](const auto& box, NodeRef c) {
+        child[i] = c;
+        hit[i] = detail::slab_packet(packet, box, tfar, active, entry[i]);
+        if (hit[i]) {
+          if (c.is_leaf())
+            Test::prefetch(tris, c.index(), c.count());
+          else
+            layout.prefetch_inner(c);
+          order[count++] = i;
+        }
+        ++i;
+      });
       if (count == 0) {
         cur = NodeRef{};
         break;
@@ -226,11 +298,11 @@ void traverse_packet(const WideBvh<N>& bvh, const Ray* rays, Hit* hits, uint8_t*
       for (int k = count - 1; k > 0; --k) {
         const int i = order[k];
         stack[sp].entry = entry[i];
-        stack[sp].ref = node.child[i].bits;
+        stack[sp].ref = child[i].bits;
         stack[sp].lanes = hit[i];
         ++sp;
       }
-      cur = node.child[order[0]];
+      cur = child[order[0]];
       active = hit[order[0]];
     }
     if (cur.is_leaf()) {
