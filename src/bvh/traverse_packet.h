@@ -1,9 +1,11 @@
-// Packet traversal of the wide layout for coherent rays (camera rays, and the
-// shadow and mirror rays of neighbouring pixels): 16
+// Packet traversal of every layout (binary, 4- and 8-wide) for coherent rays
+// (camera rays, and the shadow and mirror rays of neighbouring pixels): 16
 // rays go down the tree together, one AVX-512 lane per ray, so each node is
 // fetched once for all of them and each of its child boxes is tested against
 // the 16 rays in one pass (Wald, Slusallek, Benthin & Wagner, "Interactive
 // Rendering with Coherent Ray Tracing", EG 2001; Embree's rtcIntersect16).
+// The loop is written once; PacketNodes<Bvh> gives it a layout's root and
+// children (as NodeRefs) and their boxes.
 //
 // Per lane, every operation is the single-ray one: the child box test is
 // slab_robust()'s (the lane's own octant picks the near and far planes, each
