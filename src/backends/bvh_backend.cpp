@@ -92,7 +92,11 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                         if constexpr (kTracesPackets) {
                           static_assert(kGroup == kPacketSize);
                           if (count == kGroup && rays_coherent(r, kGroup, tolerance)) {
-                            traverse_packet<Test, kAnyHit>(bvh, r, hits + first, occluded + first);
+                            // Only the array this query writes is offset (the other is null).
+                            if constexpr (kAnyHit)
+                              traverse_packet<Test, true>(bvh, r, nullptr, occluded + first);
+                            else
+                              traverse_packet<Test, false>(bvh, r, hits + first, nullptr);
                             continue;
                           }
                         }
