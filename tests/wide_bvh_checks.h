@@ -16,12 +16,6 @@
 
 namespace hprt::test {
 
-template <int N>
-AABB wide_slot_box(const WideNode<N>& n, int i) {
-  return AABB(Vec3f{n.bounds[0][i], n.bounds[2][i], n.bounds[4][i]},
-              Vec3f{n.bounds[1][i], n.bounds[3][i], n.bounds[5][i]});
-}
-
 // "" when all holds, else the first violation. `nodes_reached`, when given,
 // gets the number of wide nodes walked.
 template <int N>
@@ -61,7 +55,7 @@ std::string check_wide(const WideBvh<N>& bvh, const Scene& scene, size_t* nodes_
     const WideNode<N>& n = bvh.nodes[index];
     int children = 0;
     for (int i = 0; i < N && err.empty(); ++i) {
-      const AABB slot = wide_slot_box(n, i);
+      const AABB slot = n.box(i);
       if (n.child[i].empty()) {
         const float inf = std::numeric_limits<float>::infinity();
         if (!(slot.min == Vec3f{inf} && slot.max == Vec3f{-inf}))

@@ -13,7 +13,6 @@
 
 #include <algorithm>
 #include <chrono>
-#include <limits>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -67,15 +66,13 @@ float packet_origin_tolerance(const WideBvh<N>& bvh) {
   if (!bvh.root.is_inner()) return 0.0f;
   const WideNode<N>& root = bvh.nodes[bvh.root.index()];
   AABB box;
-  for (int i = 0; i < N && !root.child[i].empty(); ++i)
-    box.extend(AABB(Vec3f{root.bounds[0][i], root.bounds[2][i], root.bounds[4][i]},
-                    Vec3f{root.bounds[1][i], root.bounds[3][i], root.bounds[5][i]}));
+  for (int i = 0; i < N && !root.child[i].empty(); ++i) box.extend(root.box(i));
   return packet_origin_tolerance(box);
 }
 
 // Rays go in fixed groups of kGroup (ray i in group i / kGroup, whatever the
-// thread count), as in the embree backend: where the layout traces packets, a
-// full group of coherent rays (core/ray_coherence.h) is one packet, with the
+// thread count), as in the embree backend: with AVX-512 (any layout) a full
+// group of coherent rays (core/ray_coherence.h) is one packet, with the
 // answers its rays get one by one; anything else is traced ray by ray.
 // kAnyHit writes `occluded`, otherwise `hits`.
 template <typename Test, bool kAnyHit, typename Bvh>

@@ -184,12 +184,7 @@ WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scen
       const size_t pushed_from = todo.size();
       for (int i = 0; i < k; ++i) {
         const BuildNode& c = tree.nodes[slot[i]];
-        node.bounds[0][i] = c.bounds.min.x;
-        node.bounds[1][i] = c.bounds.max.x;
-        node.bounds[2][i] = c.bounds.min.y;
-        node.bounds[3][i] = c.bounds.max.y;
-        node.bounds[4][i] = c.bounds.min.z;
-        node.bounds[5][i] = c.bounds.max.z;
+        node.set_box(i, c.bounds);
         if (c.is_leaf()) {
           node.child[i] = f.leaf_ref(slot[i]);
         } else {

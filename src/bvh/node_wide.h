@@ -8,6 +8,8 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/aabb.h"
+
 namespace hprt {
 
 // A child reference: an inner node's index into WideBvh::nodes (count 0), or a
@@ -40,6 +42,18 @@ struct alignas(64) WideNode {
   float bounds[6][N];
   NodeRef child[N];
 
+  AABB box(int i) const {
+    return AABB(Vec3f{bounds[0][i], bounds[2][i], bounds[4][i]},
+                Vec3f{bounds[1][i], bounds[3][i], bounds[5][i]});
+  }
+  void set_box(int i, const AABB& b) {
+    bounds[0][i] = b.min.x;
+    bounds[1][i] = b.max.x;
+    bounds[2][i] = b.min.y;
+    bounds[3][i] = b.max.y;
+    bounds[4][i] = b.min.z;
+    bounds[5][i] = b.max.z;
+  }
   void clear_slot(int i) {
     for (int a = 0; a < 3; ++a) {
       bounds[2 * a][i] = std::numeric_limits<float>::infinity();

@@ -15,22 +15,6 @@ namespace {
 
 using refit_detail::Partial;
 
-template <int N>
-AABB slot_box(const WideNode<N>& node, int i) {
-  return AABB(Vec3f{node.bounds[0][i], node.bounds[2][i], node.bounds[4][i]},
-              Vec3f{node.bounds[1][i], node.bounds[3][i], node.bounds[5][i]});
-}
-
-template <int N>
-void set_slot_box(WideNode<N>& node, int i, const AABB& b) {
-  node.bounds[0][i] = b.min.x;
-  node.bounds[1][i] = b.max.x;
-  node.bounds[2][i] = b.min.y;
-  node.bounds[3][i] = b.max.y;
-  node.bounds[4][i] = b.min.z;
-  node.bounds[5][i] = b.max.z;
-}
-
 // kGather: refit (Bvh = WideBvh<N>), rewriting the arrays kWrite names;
 // otherwise only sum the SAH (Bvh = const WideBvh<N>).
 template <bool kGather, RefitTriangles kWrite, int N, typename Bvh>
@@ -54,7 +38,7 @@ Partial visit(Bvh& bvh, const Scene* scene, const Vec3u* tri_index, uint32_t ind
         p = refit_detail::refit_leaf<kWrite>(bvh.triangles, *scene, tri_index, c.index(),
                                              c.count());
       } else {
-        p.box = slot_box(node, i);
+        p.box = node.box(i);
       }
       p.area_cost = double(p.box.half_area()) * c.count();
       p.unit_cost = c.count();
@@ -70,7 +54,7 @@ Partial visit(Bvh& bvh, const Scene* scene, const Vec3u* tri_index, uint32_t ind
   Partial p;
   for (int i = 0; i < N; ++i) {
     if (node.child[i].empty()) continue;
-    if constexpr (kGather) set_slot_box(node, i, slot[i].box);
+    if constexpr (kGather) node.set_box(i, slot[i].box);
     p.box.extend(slot[i].box);
     p.area_cost += slot[i].area_cost;
     p.unit_cost += slot[i].unit_cost;
