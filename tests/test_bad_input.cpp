@@ -270,6 +270,11 @@ TEST_F(BadInput, AbsurdOptions) {
   expect_rejected("--bins 0", "render good.ply --bins 0 -o out.png", {"--bins"});
   expect_rejected("--leaf-size 0", "build good.ply --leaf-size 0", {"--leaf-size"});
   expect_rejected("--leaf-size -4", "render good.ply --leaf-size -4 -o out.png", {"--leaf-size"});
+  expect_rejected("--sah-traversal -1", "build good.ply --sah-traversal -1", {"--sah-traversal"});
+  expect_rejected("--sah-traversal inf", "build good.ply --sah-traversal inf", {"--sah-traversal"});
+  expect_rejected("--sah-traversal nan", "build good.ply --sah-traversal nan", {"SAH"});
+  expect_rejected("--sah-intersection 0", "trace good.ply --sah-intersection 0 --rays r -o o",
+                  {"--sah-intersection"});
   expect_rejected("--width 0", "render good.ply --width 0 -o out.png", {"--width"});
   expect_rejected("--width -5", "render good.ply --width -5 -o out.png", {"--width"});
   expect_rejected("--height 0", "render good.ply --height 0 -o out.png", {"--height"});

@@ -82,6 +82,22 @@ TEST_F(CmdBuild, LayoutChangesMemoryNotTheTree) {
   }
 }
 
+// The SAH constants reach the builder: a dearer inner node makes fewer,
+// fuller leaves (never above --leaf-size), and the report says which were used.
+TEST_F(CmdBuild, SahConstantsShapeTheTree) {
+  const CliResult a = run("build " + mesh_ + " --json");
+  const CliResult b = run("build " + mesh_ + " --sah-traversal 8 --sah-intersection 2 --json");
+  ASSERT_EQ(a.code, 0) << a.err;
+  ASSERT_EQ(b.code, 0) << b.err;
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
+  EXPECT_EQ(jb["sah_traversal_cost"], 8.0);
+  EXPECT_EQ(jb["sah_intersection_cost"], 2.0);
+  EXPECT_NE(ja["tree_hash"], jb["tree_hash"]);
+  EXPECT_LT(jb["leaves"].get<size_t>(), ja["leaves"].get<size_t>());
+  EXPECT_GT(jb["avg_leaf_size"].get<double>(), ja["avg_leaf_size"].get<double>());
+  EXPECT_LE(jb["max_leaf_size"].get<int>(), 4);
+}
+
 TEST_F(CmdBuild, BadInputExitsTwo) {
   EXPECT_EQ(run("build " + (dir_ / "missing.ply").string()).code, 2);
   EXPECT_EQ(run("build " + mesh_ + " --builder nope").code, 2);

@@ -24,6 +24,14 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
   cmd.add_option("--leaf-size", o.options.build.max_leaf_size, "bvh: most triangles in a leaf")
       ->check(CLI::Range(1, 64))
       ->capture_default_str();
+  cmd.add_option("--sah-traversal", o.options.build.sah.traversal_cost,
+                 "bvh: SAH cost of an inner node (C_t of the report's equation (1))")
+      ->check(CLI::Range(0.0f, 1.0e6f))
+      ->capture_default_str();
+  cmd.add_option("--sah-intersection", o.options.build.sah.intersection_cost,
+                 "bvh: SAH cost of one triangle test (C_i)")
+      ->check(CLI::Range(1.0e-6f, 1.0e6f))
+      ->capture_default_str();
   cmd.add_option("--isect", o.isect, "bvh: ray/triangle test")
       ->check(CLI::IsMember({"watertight", "mt"}))
       ->capture_default_str();
