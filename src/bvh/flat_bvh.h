@@ -9,12 +9,16 @@
 #include <new>
 #include <vector>
 
+#include "bvh/huge_buffer.h"
 #include "bvh/leaf_triangles.h"
 #include "bvh/node_binary.h"
 
 namespace hprt {
 
-// Minimal allocator returning 64-byte (cache-line) aligned storage.
+// Allocator for node arrays: 64-byte (cache-line) aligned storage; arrays of
+// 2 MiB or more are 2 MiB aligned and advised as transparent huge pages, like
+// the triangle arrays (BuildArray): the bottom levels of a large tree are read
+// at random, and with 4 KiB pages nearly every such read also missed the TLB.
 template <typename T>
 struct CacheAlignedAllocator {
   using value_type = T;
@@ -23,9 +27,19 @@ struct CacheAlignedAllocator {
   template <typename U>
   constexpr CacheAlignedAllocator(const CacheAlignedAllocator<U>&) noexcept {}
   T* allocate(std::size_t n) {
-    return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t(kAlign)));
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes < kHugePage) return static_cast<T*>(::operator new(bytes, std::align_val_t(kAlign)));
+    void* p = std::aligned_alloc(kHugePage, (bytes + kHugePage - 1) / kHugePage * kHugePage);
+    if (!p) throw std::bad_alloc();
+    advise_huge_pages(p, bytes);
+    return static_cast<T*>(p);
   }
-  void deallocate(T* p, std::size_t) noexcept { ::operator delete(p, std::align_val_t(kAlign)); }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (n * sizeof(T) < kHugePage)
+      ::operator delete(p, std::align_val_t(kAlign));
+    else
+      std::free(p);
+  }
   template <typename U>
   bool operator==(const CacheAlignedAllocator<U>&) const noexcept {
     return true;

@@ -5,6 +5,9 @@
 
 #include <cstddef>
 
+#include <immintrin.h>
+
+#include "bvh/box_ref.h"
 #include "bvh/leaf_triangles.h"
 #include "bvh/refit.h"
 #include "core/aabb.h"
@@ -36,25 +39,44 @@ struct Partial {
 // Gathers the leaf's triangles into leaf order and bounds them; `valid` is
 // TriangleMesh::triangle_valid on the gathered vertices (same expression, so
 // a triangle the builder kept is valid here exactly when prim info would keep it).
+// (x, y, z, 0) without reading past v.
+inline __m128 load3(const Vec3f& v) { return _mm_setr_ps(v.x, v.y, v.z, 0.0f); }
+
+// t = {a, b, c} from three (x, y, z, _) vectors: two overlapping 16-byte
+// stores (each lane 3 is overwritten by the next) and the last 12 bytes.
+inline void store_verts(TriangleVerts& t, __m128 a, __m128 b, __m128 c) {
+  static_assert(sizeof(TriangleVerts) == 9 * sizeof(float));
+  float* d = &t.v0.x;
+  _mm_storeu_ps(d, a);
+  _mm_storeu_ps(d + 3, b);
+  _mm_storel_pi(reinterpret_cast<__m64*>(d + 6), c);
+  _mm_store_ss(d + 8, _mm_movehl_ps(c, c));
+}
+
 template <RefitTriangles kWrite>
 inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* index,
                           uint32_t first, uint32_t count) {
   Partial p;
+  VecBox box;  // min / max are exact: the same box as AABB::extend, in vector registers
   for (uint32_t j = first; j < first + count; ++j) {
     const PrimRef ref = tris.refs[j];
     const TriangleMesh& mesh = scene.meshes[ref.geom_id];
     const Vec3u t = index ? index[j] : mesh.triangles[ref.prim_id];
     const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
     const Vec3f e1 = b - a, e2 = c - a;
-    if constexpr (kWrite != RefitTriangles::kEdges) tris.verts[j] = TriangleVerts{a, b, c};
+    const __m128 va = load3(a), vb = load3(b), vc = load3(c);
+    if constexpr (kWrite != RefitTriangles::kEdges) store_verts(tris.verts[j], va, vb, vc);
     if constexpr (kWrite != RefitTriangles::kVerts) tris.edges[j] = TriangleEdges{a, e1, e2};
     const Vec3f n = cross(e1, e2);
-    p.valid = p.valid && is_finite(a) && is_finite(b) && is_finite(c) &&
-              (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f);
-    p.box.extend(a);
-    p.box.extend(b);
-    p.box.extend(c);
+    // All nine coordinates finite: then 0 * each is 0 (inf and NaN give NaN).
+    const __m128 zero = _mm_setzero_ps();
+    const __m128 z =
+        _mm_add_ps(_mm_add_ps(_mm_mul_ps(va, zero), _mm_mul_ps(vb, zero)), _mm_mul_ps(vc, zero));
+    const bool finite = _mm_movemask_ps(_mm_cmpeq_ps(z, zero)) == 0xF;
+    p.valid = p.valid && finite && (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f);
+    box.extend(_mm_min_ps(va, _mm_min_ps(vb, vc)), _mm_max_ps(va, _mm_max_ps(vb, vc)));
   }
+  p.box = box.aabb();
   return p;
 }
 
