@@ -8,13 +8,11 @@
 // in canonical preorder from subtree sizes. Equals build_binned bit for bit
 // for any thread count.
 #include <tbb/blocked_range.h>
-#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 #include <tbb/parallel_reduce.h>
 
 #include <algorithm>
-#include <atomic>
 #include <memory>
 #include <stdexcept>
 #include <utility>
@@ -35,9 +33,8 @@ constexpr size_t kChunk = 8192;  // fixed work unit: never depends on the thread
 struct Part {
   BuildNode node;
   std::unique_ptr<Part> left, right;
-  const BuildNode* subtree = nullptr;  // non-null: this part is a finished subtree
-  size_t subtree_size = 0;
-  size_t total = 0;  // nodes in this part
+  std::vector<BuildNode> subtree;  // non-empty: this part is a finished subtree
+  size_t total = 0;                // nodes in this part
 };
 
 struct BoundsPair {
@@ -47,10 +44,9 @@ struct BoundsPair {
 class ParallelBuilder {
  public:
   // refs: the two reference arrays (see BinnedSubtreeBuilder); order:
-  // prim_order; scratch: room for 2 * n - 1 nodes, where subtrees are kept.
-  ParallelBuilder(const BuildOptions& o, BoxRef* refs0, BoxRef* refs1, uint32_t* order,
-                  BuildNode* scratch)
-      : o_(o), refs_{refs0, refs1}, order_(order), scratch_(scratch) {}
+  // prim_order.
+  ParallelBuilder(const BuildOptions& o, BoxRef* refs0, BoxRef* refs1, uint32_t* order)
+      : o_(o), refs_{refs0, refs1}, order_(order) {}
 
   BoundsPair bounds_of(size_t begin, size_t end, int side) const {
     return tbb::parallel_reduce(
@@ -73,18 +69,14 @@ class ParallelBuilder {
     auto part = std::make_unique<Part>();
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff)) {
-      // Built in this thread's buffer, then packed into the shared scratch
-      // (only the touched part of it gets memory).
-      std::vector<BuildNode>& local = local_nodes_.local();
-      local.clear();
+      // Built into its own array, sized for the most nodes n primitives can
+      // need (2n - 1), so it never grows; the heap recycles these arrays
+      // from build to build, where one large scratch array would be fresh
+      // memory (page faults) every time.
+      part->subtree.reserve(2 * n - 1);
       BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
-      seq.build(begin, end, side, depth, bounds, cbounds, local);
-      const size_t count = local.size();
-      BuildNode* out = scratch_ + scratch_used_.fetch_add(count);
-      std::copy(local.data(), local.data() + count, out);
-      part->subtree = out;
-      part->subtree_size = count;
-      part->total = count;
+      seq.build(begin, end, side, depth, bounds, cbounds, part->subtree);
+      part->total = part->subtree.size();
       return part;
     }
     const BoxRef* src = refs_[side] + begin;
@@ -133,9 +125,9 @@ class ParallelBuilder {
 
   // Writes `part` into out[offset, offset + part.total) in canonical preorder.
   static void place(const Part& part, size_t offset, BuildNode* out) {
-    if (part.subtree) {
+    if (!part.subtree.empty()) {
       const uint32_t off = static_cast<uint32_t>(offset);
-      for (size_t i = 0; i < part.subtree_size; ++i) {
+      for (size_t i = 0; i < part.subtree.size(); ++i) {
         BuildNode nd = part.subtree[i];
         if (!nd.is_leaf()) nd.right += off;
         out[offset + i] = nd;
@@ -202,9 +194,6 @@ class ParallelBuilder {
   const BuildOptions& o_;
   BoxRef* refs_[2];
   uint32_t* order_;
-  BuildNode* scratch_;
-  std::atomic<size_t> scratch_used_{0};
-  tbb::enumerable_thread_specific<std::vector<BuildNode>> local_nodes_;
 };
 }  // namespace
 
@@ -222,8 +211,7 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   tree.prim_order.reserve(n);
   advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
   tree.prim_order.resize(n);
-  const auto scratch = make_huge_buffer<BuildNode>(2 * n - 1);
-  ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data(), scratch.get());
+  ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data());
   const BoundsPair root = b.bounds_of(0, n, 0);
   const std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
   tree.nodes.reserve(top->total);
