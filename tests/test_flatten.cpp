@@ -6,8 +6,11 @@
 #include <gtest/gtest.h>
 
 #include <cstdint>
+#include <cstring>
+#include <stdexcept>
 #include <vector>
 
+#include "bvh/refit.h"
 #include "bvh_trace_helpers.h"
 
 namespace hprt {
@@ -87,6 +90,38 @@ TEST(Flatten, InvalidTrianglesLeftOutAndSingleLeaf) {
   ASSERT_EQ(b.bvh.nodes.size(), 1u);
   EXPECT_TRUE(b.bvh.nodes[0].is_leaf());
   check(b);
+}
+
+// Keeping one test's array: that array is the same as with both, the other
+// is not held, and memory counts only what is held. A refit of an array
+// that is not held is refused.
+TEST(Flatten, KeepsOnlyTheTriangleArraysAskedFor) {
+  const test::BuiltBvh b = test::build_flat({test::random_soup(2000, 3)}, BuildOptions{});
+  const size_t n = b.bvh.triangles.size();
+  const FlatBvh verts = flatten(b.tree, b.prims, b.scene, TriangleArrays::kVerts);
+  const FlatBvh edges = flatten(b.tree, b.prims, b.scene, TriangleArrays::kEdges);
+  EXPECT_TRUE(b.bvh.triangles.holds(TriangleArrays::kBoth));
+  EXPECT_TRUE(verts.triangles.holds(TriangleArrays::kVerts));
+  EXPECT_FALSE(verts.triangles.holds(TriangleArrays::kEdges));
+  EXPECT_TRUE(edges.triangles.holds(TriangleArrays::kEdges));
+  EXPECT_FALSE(edges.triangles.holds(TriangleArrays::kBoth));
+  EXPECT_TRUE(verts.triangles.edges.empty());
+  EXPECT_TRUE(edges.triangles.verts.empty());
+  for (size_t k = 0; k < n; ++k) {
+    EXPECT_EQ(verts.triangles.refs[k], b.bvh.triangles.refs[k]);
+    EXPECT_EQ(
+        std::memcmp(&verts.triangles.verts[k], &b.bvh.triangles.verts[k], sizeof(TriangleVerts)),
+        0);
+    EXPECT_EQ(
+        std::memcmp(&edges.triangles.edges[k], &b.bvh.triangles.edges[k], sizeof(TriangleEdges)),
+        0);
+  }
+  EXPECT_EQ(verts.memory_bytes(), b.bvh.memory_bytes() - n * sizeof(TriangleEdges));
+  EXPECT_EQ(edges.memory_bytes(), b.bvh.memory_bytes() - n * sizeof(TriangleVerts));
+  FlatBvh v = verts;
+  EXPECT_THROW(refit(v, b.scene, RefitTriangles::kEdges, nullptr), std::invalid_argument);
+  EXPECT_THROW(refit(v, b.scene, RefitTriangles::kBoth, nullptr), std::invalid_argument);
+  EXPECT_TRUE(refit(v, b.scene, RefitTriangles::kVerts, nullptr).valid);
 }
 
 TEST(Flatten, EmptySceneGivesEmptyLayout) {

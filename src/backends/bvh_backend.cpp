@@ -155,9 +155,7 @@ class BvhIntersector final : public Intersector {
       ms = ms_since(start) + rebuild(scene);
     } else {
       // Only the array this backend's triangle test reads is re-gathered.
-      const RefitTriangles write = options_.triangle_test == TriangleTestKind::kMoller
-                                       ? RefitTriangles::kEdges
-                                       : RefitTriangles::kVerts;
+      const RefitTriangles write = test_arrays();
       const RefitResult r =
           with_layout(*this, [&](auto& bvh) { return refit(bvh, scene, write, &refit_index_); });
       if (!r.valid || (options_.update == UpdateStrategy::kAdaptive &&
@@ -211,7 +209,7 @@ class BvhIntersector final : public Intersector {
     bvh8_ = WideBvh<8>{};
     record_layout(scene, prims);
     with_layout(*this, [&](auto& bvh) {
-      flatten_into(bvh, tree, prims, scene);
+      flatten_into(bvh, tree, prims, scene, test_arrays());
       refit_index_ = make_refit_index(bvh.triangles, scene);
       rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
       info_.memory_bytes = bvh.memory_bytes();
@@ -222,14 +220,19 @@ class BvhIntersector final : public Intersector {
     return ms;
   }
 
+  // Only the triangle array the test reads is kept (and refitted).
+  TriangleArrays test_arrays() const {
+    return options_.triangle_test == TriangleTestKind::kMoller ? TriangleArrays::kEdges
+                                                               : TriangleArrays::kVerts;
+  }
   static void flatten_into(FlatBvh& out, const BuildTree& tree, const PrimInfo& prims,
-                           const Scene& scene) {
-    out = flatten(tree, prims, scene);
+                           const Scene& scene, TriangleArrays arrays) {
+    out = flatten(tree, prims, scene, arrays);
   }
   template <int N>
   static void flatten_into(WideBvh<N>& out, const BuildTree& tree, const PrimInfo& prims,
-                           const Scene& scene) {
-    out = flatten_wide<N>(tree, prims, scene);
+                           const Scene& scene, TriangleArrays arrays) {
+    out = flatten_wide<N>(tree, prims, scene, arrays);
   }
   static double sah_cost_of(const FlatBvh& bvh) { return flat_sah_cost(bvh); }
   template <int N>

@@ -25,27 +25,46 @@ BinaryNode to_flat(const BuildNode& b) {
 
 }  // namespace
 
+namespace {
+template <TriangleArrays kArrays>
+void gather_range(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                  LeafTriangles& tris, size_t begin, size_t end) {
+  for (size_t j = begin; j != end; ++j) {
+    const PrimRef ref = prims.refs[tree.prim_order[j]];
+    const TriangleMesh& mesh = scene.meshes[ref.geom_id];
+    const Vec3u& t = mesh.triangles[ref.prim_id];
+    const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+    if constexpr (kArrays != TriangleArrays::kEdges) tris.verts[j] = TriangleVerts{a, b, c};
+    if constexpr (kArrays != TriangleArrays::kVerts) tris.edges[j] = TriangleEdges{a, b - a, c - a};
+    tris.refs[j] = ref;
+  }
+}
+}  // namespace
+
 LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims,
-                                    const Scene& scene) {
+                                    const Scene& scene, TriangleArrays arrays) {
   const size_t m = tree.prim_order.size();
   LeafTriangles tris;
-  tris.allocate(m);
-  tbb::parallel_for(
-      tbb::blocked_range<size_t>(0, m, 4096), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t j = r.begin(); j != r.end(); ++j) {
-          const PrimRef ref = prims.refs[tree.prim_order[j]];
-          const TriangleMesh& mesh = scene.meshes[ref.geom_id];
-          const Vec3u& t = mesh.triangles[ref.prim_id];
-          const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
-          tris.verts[j] = TriangleVerts{a, b, c};
-          tris.edges[j] = TriangleEdges{a, b - a, c - a};
-          tris.refs[j] = ref;
-        }
-      });
+  tris.allocate(m, arrays);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, m, 4096),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      switch (arrays) {
+                        case TriangleArrays::kBoth:
+                          return gather_range<TriangleArrays::kBoth>(tree, prims, scene, tris,
+                                                                     r.begin(), r.end());
+                        case TriangleArrays::kVerts:
+                          return gather_range<TriangleArrays::kVerts>(tree, prims, scene, tris,
+                                                                      r.begin(), r.end());
+                        case TriangleArrays::kEdges:
+                          return gather_range<TriangleArrays::kEdges>(tree, prims, scene, tris,
+                                                                      r.begin(), r.end());
+                      }
+                    });
   return tris;
 }
 
-FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene) {
+FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                TriangleArrays arrays) {
   FlatBvh out;
   const size_t n = tree.nodes.size();
   if (n == 0) return out;
@@ -85,7 +104,7 @@ FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene
   if (visited != n || (n > 1 && next != n + 1))
     throw std::invalid_argument("flatten: build tree is not a single binary tree");
 
-  out.triangles = gather_leaf_triangles(tree, prims, scene);
+  out.triangles = gather_leaf_triangles(tree, prims, scene, arrays);
   return out;
 }
 

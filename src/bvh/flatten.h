@@ -13,12 +13,16 @@ namespace hprt {
 // `tree` must index `prims`, and `prims` must come from `scene`. An empty tree
 // (no valid triangle) gives an empty FlatBvh. Throws std::invalid_argument on
 // a malformed tree (a child index out of range, a leaf range past prim_order).
-FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene);
+// `arrays`: the triangle test arrays to keep (LeafTriangles).
+FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                TriangleArrays arrays = TriangleArrays::kBoth);
 
 // The triangle pass of every layout: prim_order's triangles copied into leaf
-// order with their test data (verts, edges) and input refs, in parallel.
-// prim_order's indices must be in range of `prims` (builders guarantee it).
+// order with their test data (the `arrays` of verts, edges) and input refs,
+// in parallel. prim_order's indices must be in range of `prims` (builders
+// guarantee it).
 LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims,
-                                    const Scene& scene);
+                                    const Scene& scene,
+                                    TriangleArrays arrays = TriangleArrays::kBoth);
 
 }  // namespace hprt

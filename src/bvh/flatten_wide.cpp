@@ -148,7 +148,8 @@ void expand(const CollapsePlan<N>& plan, const BuildTree& tree, Filler& f, uint3
 }  // namespace
 
 template <int N>
-WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene) {
+WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                        TriangleArrays arrays) {
   WideBvh<N> out;
   const size_t n = tree.nodes.size();
   if (n == 0) return out;
@@ -203,11 +204,13 @@ WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scen
   }
   if (f.visited != n)
     throw std::invalid_argument("flatten: build tree is not a single binary tree");
-  out.triangles = gather_leaf_triangles(tree, prims, scene);
+  out.triangles = gather_leaf_triangles(tree, prims, scene, arrays);
   return out;
 }
 
-template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&);
-template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&);
+template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&,
+                                    TriangleArrays);
+template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&,
+                                    TriangleArrays);
 
 }  // namespace hprt

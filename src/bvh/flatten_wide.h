@@ -15,10 +15,14 @@ namespace hprt {
 
 // `tree` must index `prims`, and `prims` must come from `scene`. An empty tree
 // gives an empty WideBvh. Throws std::invalid_argument on a malformed tree.
+// `arrays`: the triangle test arrays to keep (LeafTriangles).
 template <int N>
-WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene);
+WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                        TriangleArrays arrays = TriangleArrays::kBoth);
 
-extern template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&);
-extern template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&);
+extern template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&,
+                                           TriangleArrays);
+extern template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&,
+                                           TriangleArrays);
 
 }  // namespace hprt

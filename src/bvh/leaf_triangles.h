@@ -22,17 +22,29 @@ struct TriangleEdges {
   Vec3f v0, e1, e2;
 };
 
+// Which test arrays a layout holds (and a refit rewrites): both, or only the
+// one a triangle test reads (verts: watertight, edges: Möller–Trumbore; the
+// backend keeps only its test's, a third less memory and flatten writes).
+enum class TriangleArrays { kBoth, kVerts, kEdges };
+
 struct LeafTriangles {
-  BuildArray<TriangleVerts> verts;
-  BuildArray<TriangleEdges> edges;
+  BuildArray<TriangleVerts> verts;  // empty when not held
+  BuildArray<TriangleEdges> edges;  // empty when not held
   BuildArray<PrimRef> refs;
 
   size_t size() const { return refs.size(); }
-  // n uninitialised triangles: the caller writes every one.
-  void allocate(size_t n) {
-    verts = BuildArray<TriangleVerts>(n);
-    edges = BuildArray<TriangleEdges>(n);
+  // n uninitialised triangles: the caller writes every one of the arrays held.
+  void allocate(size_t n, TriangleArrays which = TriangleArrays::kBoth) {
+    verts = which != TriangleArrays::kEdges ? BuildArray<TriangleVerts>(n)
+                                            : BuildArray<TriangleVerts>();
+    edges = which != TriangleArrays::kVerts ? BuildArray<TriangleEdges>(n)
+                                            : BuildArray<TriangleEdges>();
     refs = BuildArray<PrimRef>(n);
+  }
+  // Whether the arrays `which` names are held for every triangle.
+  bool holds(TriangleArrays which) const {
+    return (which == TriangleArrays::kEdges || verts.size() == refs.size()) &&
+           (which == TriangleArrays::kVerts || edges.size() == refs.size());
   }
   size_t memory_bytes() const {
     return verts.size() * sizeof(TriangleVerts) + edges.size() * sizeof(TriangleEdges) +

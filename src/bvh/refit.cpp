@@ -85,6 +85,7 @@ RefitResult refit(FlatBvh& bvh, const Scene& scene, RefitTriangles triangles,
                   const RefitIndex* index) {
   RefitResult r;
   if (bvh.empty()) return r;
+  refit_detail::check_arrays(bvh.triangles, triangles);
   const int parallel = parallel_depth(bvh.triangles.size());
   const Vec3u* tri =
       index && index->triangles.size() == bvh.triangles.size() ? index->triangles.data() : nullptr;

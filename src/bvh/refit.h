@@ -20,11 +20,11 @@ struct RefitResult {
   double sah_cost = 0.0;  // of the refitted tree, normalised as flat_sah_cost
 };
 
-// Which leaf-order triangle arrays a refit rewrites (LeafTriangles): both,
-// or only the one the backend's triangle test reads (verts: watertight,
-// edges: Möller–Trumbore), which halves the triangle data written; the
-// other array is then stale and must not be read.
-enum class RefitTriangles { kBoth, kVerts, kEdges };
+// Which leaf-order triangle arrays a refit rewrites: those the layout holds
+// (LeafTriangles::holds; refit throws std::invalid_argument for one it does
+// not). Rewriting only the one the triangle test reads halves the triangle
+// data written; the other, if held, is then stale and must not be read.
+using RefitTriangles = TriangleArrays;
 
 // The vertex indices of every leaf-order triangle (mesh.triangles[primID]
 // copied next to the leaf order), made once after a build: a refit then

@@ -4,6 +4,7 @@
 #pragma once
 
 #include <cstddef>
+#include <stdexcept>
 
 #include <immintrin.h>
 
@@ -78,6 +79,11 @@ inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* 
   }
   p.box = box.aabb();
   return p;
+}
+
+inline void check_arrays(const LeafTriangles& tris, RefitTriangles which) {
+  if (!tris.holds(which))
+    throw std::invalid_argument("refit: the layout does not hold the triangle arrays asked for");
 }
 
 inline double normalised(const Partial& root) {

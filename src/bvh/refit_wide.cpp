@@ -102,6 +102,7 @@ RefitResult refit(WideBvh<N>& bvh, const Scene& scene, RefitTriangles triangles,
                   const RefitIndex* index) {
   RefitResult r;
   if (bvh.empty()) return r;
+  refit_detail::check_arrays(bvh.triangles, triangles);
   const Vec3u* tri =
       index && index->triangles.size() == bvh.triangles.size() ? index->triangles.data() : nullptr;
   Partial root;
