@@ -52,21 +52,28 @@ Partial visit(Bvh& bvh, const Scene* scene, const Vec3u* tri_index, uint32_t ind
     for (int i = 0; i < N; ++i) one_slot(i);
   }
   Partial p;
+  // Slot boxes as vectors for the unions below (min / max are exact, so the
+  // unions are AABB::extend's bits).
+  __m128 lo[N], hi[N];
+  VecBox all;
   for (int i = 0; i < N; ++i) {
     if (node.child[i].empty()) continue;
     if constexpr (kGather) node.set_box(i, slot[i].box);
-    p.box.extend(slot[i].box);
+    lo[i] = refit_detail::load3(slot[i].box.min);
+    hi[i] = refit_detail::load3(slot[i].box.max);
+    all.extend(lo[i], hi[i]);
     p.area_cost += slot[i].area_cost;
     p.unit_cost += slot[i].unit_cost;
     p.valid = p.valid && slot[i].valid;
   }
+  p.box = all.aabb();
   p.area_cost += double(p.box.half_area());
   p.unit_cost += 1.0;
   const CollapsedInner<N>& col = bvh.collapsed[index];
   for (int r = 0; r < col.count; ++r) {
-    AABB b;
-    for (int i = col.begin[r]; i < col.end[r]; ++i) b.extend(slot[i].box);
-    p.area_cost += double(b.half_area());
+    VecBox b;  // collapsed ranges hold no empty slot
+    for (int i = col.begin[r]; i < col.end[r]; ++i) b.extend(lo[i], hi[i]);
+    p.area_cost += double(b.aabb().half_area());
     p.unit_cost += 1.0;
   }
   return p;
