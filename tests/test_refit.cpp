@@ -247,6 +247,32 @@ TEST(Refit, ReportsATriangleThatBecameInvalid) {
   }
 }
 
+// Nearly degenerate triangles whose normal is nonzero only below float
+// precision (a component 2^-46, lost if a product is rounded first): prim
+// info keeps them, and a refit that moves nothing must find them valid too
+// (the two once computed the cross product with different FMA contractions
+// and disagreed).
+TEST(Refit, NearlyDegenerateTrianglesValidAsInPrimInfo) {
+  const float e = std::ldexp(1.0f, -23);
+  TriangleMesh m;
+  test::add_triangle(m, {0, 0, 0}, {0, 1 + e, 1}, {0, 1 + 2 * e, 1 + e});
+  test::add_triangle(m, {5, 0, 0}, {5, 1, 1 + e}, {5, 1 + e, 1 + 2 * e});
+  test::add_triangle(m, {9, 0, 0}, {9, 1, 1}, {9, 2, 2});  // exactly collinear
+  test::add_triangle(m, {0, 3, 0}, {1, 3, 0}, {0, 4, 0});
+  EXPECT_TRUE(m.triangle_valid(0));
+  EXPECT_TRUE(m.triangle_valid(1));
+  EXPECT_FALSE(m.triangle_valid(2));
+  Scene s;
+  s.add_mesh(m);
+  const PrimInfo prims = make_prim_info(s);
+  EXPECT_EQ(prims.size(), 3u);
+  const BuildTree tree = build_tree(prims, BuildOptions{});
+  FlatBvh flat = flatten(tree, prims, s);
+  WideBvh<8> wide = flatten_wide<8>(tree, prims, s);
+  EXPECT_TRUE(refit(flat, s).valid);
+  EXPECT_TRUE(refit(wide, s, RefitTriangles::kVerts, nullptr).valid);
+}
+
 // A 20k-triangle sphere under one deformer, fps 8.
 Scene deforming_sphere(const char* kind, int frames) {
   Scene s;

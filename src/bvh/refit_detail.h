@@ -37,9 +37,6 @@ struct Partial {
   bool valid = true;
 };
 
-// Gathers the leaf's triangles into leaf order and bounds them; `valid` is
-// TriangleMesh::triangle_valid on the gathered vertices (same expression, so
-// a triangle the builder kept is valid here exactly when prim info would keep it).
 // (x, y, z, 0) without reading past v.
 inline __m128 load3(const Vec3f& v) { return _mm_setr_ps(v.x, v.y, v.z, 0.0f); }
 
@@ -54,6 +51,29 @@ inline void store_verts(TriangleVerts& t, __m128 a, __m128 b, __m128 c) {
   _mm_store_ss(d + 8, _mm_movehl_ps(c, c));
 }
 
+// nonzero_area(a, b, c) of three (x, y, z, _) vectors: the same exact
+// answer (products of floats are exact in double), four lanes at once.
+inline bool nonzero_area(__m128 a, __m128 b, __m128 c) {
+#if defined(__AVX2__)
+  const __m256d e1 = _mm256_cvtps_pd(_mm_sub_ps(b, a)), e2 = _mm256_cvtps_pd(_mm_sub_ps(c, a));
+  constexpr int kYzx = _MM_SHUFFLE(3, 0, 2, 1), kZxy = _MM_SHUFFLE(3, 1, 0, 2);
+  const __m256d n = _mm256_sub_pd(
+      _mm256_mul_pd(_mm256_permute4x64_pd(e1, kYzx), _mm256_permute4x64_pd(e2, kZxy)),
+      _mm256_mul_pd(_mm256_permute4x64_pd(e1, kZxy), _mm256_permute4x64_pd(e2, kYzx)));
+  return (_mm256_movemask_pd(_mm256_cmp_pd(n, _mm256_setzero_pd(), _CMP_NEQ_UQ)) & 0x7) != 0;
+#else
+  alignas(16) float va[4], vb[4], vc[4];
+  _mm_store_ps(va, a);
+  _mm_store_ps(vb, b);
+  _mm_store_ps(vc, c);
+  return hprt::nonzero_area({va[0], va[1], va[2]}, {vb[0], vb[1], vb[2]}, {vc[0], vc[1], vc[2]});
+#endif
+}
+
+// Gathers the leaf's triangles into leaf order and bounds them; `valid` is
+// TriangleMesh::triangle_valid on the gathered vertices (finite, and
+// nonzero_area: exact, so a triangle the builder kept is valid here exactly
+// when prim info would keep it).
 template <RefitTriangles kWrite>
 inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* index,
                           uint32_t first, uint32_t count) {
@@ -68,13 +88,12 @@ inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* 
     const __m128 va = load3(a), vb = load3(b), vc = load3(c);
     if constexpr (kWrite != RefitTriangles::kEdges) store_verts(tris.verts[j], va, vb, vc);
     if constexpr (kWrite != RefitTriangles::kVerts) tris.edges[j] = TriangleEdges{a, e1, e2};
-    const Vec3f n = cross(e1, e2);
     // All nine coordinates finite: then 0 * each is 0 (inf and NaN give NaN).
     const __m128 zero = _mm_setzero_ps();
     const __m128 z =
         _mm_add_ps(_mm_add_ps(_mm_mul_ps(va, zero), _mm_mul_ps(vb, zero)), _mm_mul_ps(vc, zero));
     const bool finite = _mm_movemask_ps(_mm_cmpeq_ps(z, zero)) == 0xF;
-    p.valid = p.valid && finite && (n.x != 0.0f || n.y != 0.0f || n.z != 0.0f);
+    p.valid = p.valid && finite && nonzero_area(va, vb, vc);
     box.extend(_mm_min_ps(va, _mm_min_ps(vb, vc)), _mm_max_ps(va, _mm_max_ps(vb, vc)));
   }
   p.box = box.aabb();

@@ -12,6 +12,20 @@
 
 namespace hprt {
 
+// Whether triangle (a, b, c) has a nonzero normal, (b - a) x (c - a), decided
+// exactly: the products of the float edge components are exact in double, so
+// each component is zero exactly when its two products are equal, whether or
+// not the compiler fuses the subtraction into an FMA. (In float the answer
+// depended on that: prim info and refit, compiled apart, disagreed on nearly
+// degenerate triangles.)
+inline bool nonzero_area(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
+  const Vec3f e1 = b - a, e2 = c - a;
+  const double x = double(e1.y) * double(e2.z) - double(e1.z) * double(e2.y);
+  const double y = double(e1.z) * double(e2.x) - double(e1.x) * double(e2.z);
+  const double z = double(e1.x) * double(e2.y) - double(e1.y) * double(e2.x);
+  return x != 0.0 || y != 0.0 || z != 0.0;
+}
+
 struct TriangleMesh {
   std::string name;              // file path or generator description, for messages
   std::vector<Vec3f> positions;  // see pad_for_embree()
@@ -47,8 +61,7 @@ struct TriangleMesh {
     const Vec3f& b = positions[t[1]];
     const Vec3f& c = positions[t[2]];
     if (!is_finite(a) || !is_finite(b) || !is_finite(c)) return false;
-    const Vec3f n3 = cross(b - a, c - a);
-    return n3.x != 0.0f || n3.y != 0.0f || n3.z != 0.0f;
+    return nonzero_area(a, b, c);
   }
 };
 
