@@ -272,7 +272,12 @@ TEST_F(BadInput, AbsurdOptions) {
   expect_rejected("--leaf-size -4", "render good.ply --leaf-size -4 -o out.png", {"--leaf-size"});
   expect_rejected("--sah-traversal -1", "build good.ply --sah-traversal -1", {"--sah-traversal"});
   expect_rejected("--sah-traversal inf", "build good.ply --sah-traversal inf", {"--sah-traversal"});
-  expect_rejected("--sah-traversal nan", "build good.ply --sah-traversal nan", {"SAH"});
+  expect_rejected("--sah-traversal nan", "build good.ply --sah-traversal nan", {"--sah-traversal"});
+  expect_rejected("--sah-traversal nan (embree)",
+                  "render good.ply --backend embree --sah-traversal nan -o out.png",
+                  {"--sah-traversal"});
+  expect_rejected("--adaptive-factor nan", "render good.ply --adaptive-factor nan -o out.png",
+                  {"--adaptive-factor"});
   expect_rejected("--sah-intersection 0", "trace good.ply --sah-intersection 0 --rays r -o o",
                   {"--sah-intersection"});
   expect_rejected("--width 0", "render good.ply --width 0 -o out.png", {"--width"});

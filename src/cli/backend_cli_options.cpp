@@ -1,7 +1,22 @@
 // Backend options shared by every subcommand that traces rays.
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
 #include "cli/commands.h"
 
 namespace hprt::cli {
+
+namespace {
+// CLI::Range passes NaN (no comparison with it is true), so float options
+// are checked for finiteness first.
+const CLI::Validator kFinite(
+    [](std::string& s) -> std::string {
+      return std::isfinite(std::strtod(s.c_str(), nullptr)) ? std::string()
+                                                            : "must be a finite number, got " + s;
+    },
+    "FINITE");
+}  // namespace
 
 void add_threads_option(CLI::App& cmd, int& threads) {
   cmd.add_option("--threads", threads, "worker threads (0 = all hardware threads)")
@@ -26,10 +41,12 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
       ->capture_default_str();
   cmd.add_option("--sah-traversal", o.options.build.sah.traversal_cost,
                  "bvh: SAH cost of an inner node (C_t of the report's equation (1))")
+      ->check(kFinite)
       ->check(CLI::Range(0.0f, 1.0e6f))
       ->capture_default_str();
   cmd.add_option("--sah-intersection", o.options.build.sah.intersection_cost,
                  "bvh: SAH cost of one triangle test (C_i)")
+      ->check(kFinite)
       ->check(CLI::Range(1.0e-6f, 1.0e6f))
       ->capture_default_str();
   cmd.add_option("--isect", o.isect, "bvh: ray/triangle test")
@@ -49,6 +66,7 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
       ->capture_default_str();
   cmd.add_option("--adaptive-factor", o.options.adaptive_factor,
                  "adaptive: rebuild when SAH cost exceeds this factor x cost at last rebuild")
+      ->check(kFinite)
       ->check(CLI::Range(1.0f, 100.0f))
       ->capture_default_str();
 }
