@@ -16,6 +16,9 @@ TimingStats summarize_ms(std::vector<double> samples_ms) {
   t.median_ms = n % 2 ? samples_ms[n / 2] : 0.5 * (samples_ms[n / 2 - 1] + samples_ms[n / 2]);
   t.min_ms = samples_ms.front();
   t.max_ms = samples_ms.back();
+  double sum = 0.0;
+  for (double s : samples_ms) sum += s;
+  t.mean_ms = sum / double(n);
   return t;
 }
 

@@ -13,10 +13,11 @@ struct TimingStats {
   double median_ms = 0.0;
   double min_ms = 0.0;
   double max_ms = 0.0;
+  double mean_ms = 0.0;
   std::vector<double> samples_ms;
 };
 
-// Median (mean of the two middle values for an even count), min and max.
+// Median (mean of the two middle values for an even count), min, max and mean.
 TimingStats summarize_ms(std::vector<double> samples_ms);
 
 // Milliseconds spent in `f()`.

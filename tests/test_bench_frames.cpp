@@ -33,12 +33,14 @@ const std::vector<std::string> kColumns = {"case",
                                            "update_ms",
                                            "update_min_ms",
                                            "update_max_ms",
+                                           "update_mean_ms",
                                            "render_ms",
                                            "render_min_ms",
                                            "render_max_ms",
                                            "frame_ms",
                                            "frame_min_ms",
                                            "frame_max_ms",
+                                           "frame_mean_ms",
                                            "deform_ms",
                                            "rebuilds",
                                            "sah_cost_first",
@@ -106,6 +108,10 @@ TEST_F(BenchFrames, QuickRunWritesEveryColumnAndEmbreeRows) {
       EXPECT_GT(std::stod(row[c]), 0.0) << c << " in " << line;
     EXPECT_LE(std::stod(row["update_min_ms"]), std::stod(row["update_ms"]));
     EXPECT_LE(std::stod(row["update_ms"]), std::stod(row["update_max_ms"]));
+    EXPECT_LE(std::stod(row["update_min_ms"]), std::stod(row["update_mean_ms"]));
+    EXPECT_LE(std::stod(row["update_mean_ms"]), std::stod(row["update_max_ms"]));
+    EXPECT_LE(std::stod(row["frame_min_ms"]), std::stod(row["frame_mean_ms"]));
+    EXPECT_LE(std::stod(row["frame_mean_ms"]), std::stod(row["frame_max_ms"]));
     const bool bvh = row["config"].rfind("bvh", 0) == 0;
     EXPECT_EQ(row["sah_cost_last"].empty(), !bvh) << line;
     if (row["config"] == "bvh rebuild" || row["config"].rfind("embree dynamic low", 0) == 0) {
