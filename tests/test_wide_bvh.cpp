@@ -7,6 +7,8 @@
 // same hits as the binary layout of the same build.
 #include <gtest/gtest.h>
 
+#include <cstring>
+
 #include "bvh/flatten_wide.h"
 #include "bvh/refit.h"
 #include "bvh/refit_wide.h"
@@ -42,6 +44,21 @@ void check_layout(const test::BuiltBvh& b) {
   const double sah = compute_tree_stats(b.tree, b.prims).sah_cost;
   EXPECT_NEAR(wide_sah_cost(w), sah, 1e-12 * sah);
   EXPECT_EQ(w.memory_bytes(), w.nodes.size() * sizeof(WideNode<N>) + w.triangles.memory_bytes());
+  // The node pass alone (what the backend runs beside the triangle pass)
+  // gives the same nodes, byte for byte, and no triangles.
+  const WideBvh<N> nodes_only = flatten_wide_nodes<N>(b.tree, b.prims);
+  EXPECT_TRUE(nodes_only.triangles.refs.empty());
+  EXPECT_EQ(nodes_only.root.bits, w.root.bits);
+  ASSERT_EQ(nodes_only.nodes.size(), w.nodes.size());
+  EXPECT_EQ(
+      std::memcmp(nodes_only.nodes.data(), w.nodes.data(), w.nodes.size() * sizeof(WideNode<N>)),
+      0);
+  ASSERT_EQ(nodes_only.collapsed.size(), w.collapsed.size());
+  for (size_t k = 0; k < w.collapsed.size(); ++k) {
+    EXPECT_EQ(nodes_only.collapsed[k].count, w.collapsed[k].count);
+    EXPECT_EQ(std::memcmp(nodes_only.collapsed[k].begin, w.collapsed[k].begin, N - 2), 0);
+    EXPECT_EQ(std::memcmp(nodes_only.collapsed[k].end, w.collapsed[k].end, N - 2), 0);
+  }
 }
 
 TEST(FlattenWide, SlotsExactAndSahKeptForEveryBuilderAndLeafSize) {

@@ -1,8 +1,9 @@
 // hprt's own BVH behind the Intersector interface: prim info -> build tree
 // (the builder named in the options, oneTBB inside the caller's task arena)
-// -> tree statistics -> the traversal layout named in the options (binary, or
-// wide 4/8 collapsed from the same tree); batches of rays traced in parallel
-// blocks with one switch per batch into a fully inlined traversal.
+// -> the traversal layout named in the options (binary, or wide 4/8 collapsed
+// from the same tree; a wide layout's node and triangle passes as two tasks)
+// and the tree statistics; batches of rays traced in parallel blocks with one
+// switch per batch into a fully inlined traversal.
 // update(): per BackendOptions::update, a full rebuild, a refit over the last
 // build's topology (bvh/refit.h), or adaptive (refit, then rebuild when the
 // refitted SAH cost exceeds adaptive_factor x the cost at the last rebuild).
@@ -10,6 +11,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <chrono>
@@ -134,7 +136,7 @@ class BvhIntersector final : public Intersector {
     info_.has_tree_stats = true;
   }
 
-  void build(const Scene& scene) override { info_.build_ms = rebuild(scene); }
+  void build(const Scene& scene) override { info_.build_ms = rebuild(scene, false); }
 
   // The caller moved vertices (same meshes, triangle indices and counts).
   // Whatever the strategy, a change of the set of valid triangles (one became
@@ -144,15 +146,16 @@ class BvhIntersector final : public Intersector {
   // figures (nodes, leaves, depth, leaf sizes, triangle counts) are those of
   // the last rebuild and still true, and tree_hash is the last rebuild's.
   // A refit allocates nothing: it rewrites the existing nodes and triangles.
-  // build_ms: the whole update (checks, refit, rebuild), without the
-  // reporting-only tree statistics of a rebuild (as for build()).
+  // build_ms: the whole update (checks, refit, rebuild); a rebuild here
+  // computes the tree statistics beside the flattening, so they count where
+  // they outlast it (build() leaves them out).
   void update(const Scene& scene) override {
     const auto start = std::chrono::steady_clock::now();
     bool rebuilt = true;
     double ms = 0.0;
     if (options_.update == UpdateStrategy::kRebuild || !same_layout(scene) ||
         invalid_became_valid(scene)) {
-      ms = ms_since(start) + rebuild(scene);
+      ms = ms_since(start) + rebuild(scene, true);
     } else {
       // Only the array this backend's triangle test reads is re-gathered.
       const RefitTriangles write = test_arrays();
@@ -160,7 +163,7 @@ class BvhIntersector final : public Intersector {
           with_layout(*this, [&](auto& bvh) { return refit(bvh, scene, write, &refit_index_); });
       if (!r.valid || (options_.update == UpdateStrategy::kAdaptive &&
                        r.sah_cost > double(options_.adaptive_factor) * rebuild_sah_cost_)) {
-        ms = ms_since(start) + rebuild(scene);
+        ms = ms_since(start) + rebuild(scene, true);
       } else {
         info_.stats.sah_cost = r.sah_cost;
         rebuilt = false;
@@ -197,9 +200,11 @@ class BvhIntersector final : public Intersector {
 
  private:
   // Full build; returns its ms: prim info + build + flatten + what update()
-  // needs later (layout record, the new tree's SAH cost, parallel). The tree
-  // statistics and hash (sequential, for reporting) are computed after that.
-  double rebuild(const Scene& scene) {
+  // needs later (layout record, refit index, the new tree's SAH cost). The
+  // tree statistics and hash (sequential, for reporting) are computed after
+  // that, or, with `overlap_stats`, as a task beside the flattening (on 2
+  // threads they then cost next to nothing; on 1 they count in full).
+  double rebuild(const Scene& scene, bool overlap_stats) {
     const auto start = std::chrono::steady_clock::now();
     const PrimInfo prims = make_prim_info(scene);
     const BuildTree tree = build_tree(prims, options_.build);
@@ -208,14 +213,24 @@ class BvhIntersector final : public Intersector {
     bvh4_ = WideBvh<4>{};
     bvh8_ = WideBvh<8>{};
     record_layout(scene, prims);
-    with_layout(*this, [&](auto& bvh) {
-      flatten_into(bvh, tree, prims, scene, test_arrays());
-      refit_index_ = make_refit_index(bvh.triangles, scene);
-      rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
-      info_.memory_bytes = bvh.memory_bytes();
-    });
-    const double ms = ms_since(start);
-    info_.stats = compute_tree_stats(tree, prims);
+    const auto make_layout = [&] {
+      with_layout(*this, [&](auto& bvh) {
+        flatten_into(bvh, refit_index_, tree, prims, scene, test_arrays());
+        rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
+        info_.memory_bytes = bvh.memory_bytes();
+      });
+    };
+    TreeStats stats;
+    double ms = 0.0;
+    if (overlap_stats) {
+      tbb::parallel_invoke(make_layout, [&] { stats = compute_tree_stats(tree, prims); });
+      ms = ms_since(start);
+    } else {
+      make_layout();
+      ms = ms_since(start);
+      stats = compute_tree_stats(tree, prims);
+    }
+    info_.stats = stats;
     info_.rebuilt = true;
     return ms;
   }
@@ -225,14 +240,24 @@ class BvhIntersector final : public Intersector {
     return options_.triangle_test == TriangleTestKind::kMoller ? TriangleArrays::kEdges
                                                                : TriangleArrays::kVerts;
   }
-  static void flatten_into(FlatBvh& out, const BuildTree& tree, const PrimInfo& prims,
-                           const Scene& scene, TriangleArrays arrays) {
+  // The layout and its refit index.
+  static void flatten_into(FlatBvh& out, RefitIndex& index, const BuildTree& tree,
+                           const PrimInfo& prims, const Scene& scene, TriangleArrays arrays) {
     out = flatten(tree, prims, scene, arrays);
+    index = make_refit_index(out.triangles, scene);
   }
+  // The wide layout's node pass is sequential; its triangle pass and the
+  // refit index run beside it.
   template <int N>
-  static void flatten_into(WideBvh<N>& out, const BuildTree& tree, const PrimInfo& prims,
-                           const Scene& scene, TriangleArrays arrays) {
-    out = flatten_wide<N>(tree, prims, scene, arrays);
+  static void flatten_into(WideBvh<N>& out, RefitIndex& index, const BuildTree& tree,
+                           const PrimInfo& prims, const Scene& scene, TriangleArrays arrays) {
+    LeafTriangles triangles;
+    tbb::parallel_invoke([&] { out = flatten_wide_nodes<N>(tree, prims); },
+                         [&] {
+                           triangles = gather_leaf_triangles(tree, prims, scene, arrays);
+                           index = make_refit_index(triangles, scene);
+                         });
+    out.triangles = std::move(triangles);
   }
   static double sah_cost_of(const FlatBvh& bvh) { return flat_sah_cost(bvh); }
   template <int N>

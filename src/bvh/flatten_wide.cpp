@@ -10,7 +10,9 @@
 // The slots of every opened binary node are contiguous (its left forest, then
 // its right), so CollapsedInner records them as ranges. A wide node's inner
 // children get consecutive indices when it is filled, depth first.
-// Triangle pass: gather_leaf_triangles, as for the binary layout.
+// Triangle pass: gather_leaf_triangles, as for the binary layout. The two
+// passes read only the build tree (and the scene), so a caller may run them
+// concurrently (flatten_wide_nodes, then set `triangles`).
 #include "bvh/flatten_wide.h"
 
 #include <algorithm>
@@ -148,8 +150,7 @@ void expand(const CollapsePlan<N>& plan, const BuildTree& tree, Filler& f, uint3
 }  // namespace
 
 template <int N>
-WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
-                        TriangleArrays arrays) {
+WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
   WideBvh<N> out;
   const size_t n = tree.nodes.size();
   if (n == 0) return out;
@@ -204,10 +205,19 @@ WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scen
   }
   if (f.visited != n)
     throw std::invalid_argument("flatten: build tree is not a single binary tree");
+  return out;
+}
+
+template <int N>
+WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                        TriangleArrays arrays) {
+  WideBvh<N> out = flatten_wide_nodes<N>(tree, prims);
   out.triangles = gather_leaf_triangles(tree, prims, scene, arrays);
   return out;
 }
 
+template WideBvh<4> flatten_wide_nodes<4>(const BuildTree&, const PrimInfo&);
+template WideBvh<8> flatten_wide_nodes<8>(const BuildTree&, const PrimInfo&);
 template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&,
                                     TriangleArrays);
 template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&,

@@ -20,6 +20,14 @@ template <int N>
 WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
                         TriangleArrays arrays = TriangleArrays::kBoth);
 
+// The node pass alone: nodes, collapsed and root; `triangles` left empty, for
+// gather_leaf_triangles(tree, prims, scene, arrays) (bvh/flatten.h) to fill,
+// which may run at the same time (both only read `tree` and `prims`).
+template <int N>
+WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims);
+
+extern template WideBvh<4> flatten_wide_nodes<4>(const BuildTree&, const PrimInfo&);
+extern template WideBvh<8> flatten_wide_nodes<8>(const BuildTree&, const PrimInfo&);
 extern template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&,
                                            TriangleArrays);
 extern template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&,
