@@ -13,6 +13,7 @@
 #include <cmath>
 #include <memory>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "anim/scene_animator.h"
@@ -34,17 +35,24 @@ struct FrameConfig {
   const char* quality;                                    // embree build quality
   TriangleTestKind test = TriangleTestKind::kWatertight;  // bvh
   bool robust = false;                                    // embree
+  BuilderKind builder = BuilderKind::kParallel;           // bvh
   // Watertight bvh and robust Embree, or Möller–Trumbore and Embree's default.
   bool careful() const {
     return std::string(backend) == "bvh" ? test == TriangleTestKind::kWatertight : robust;
   }
 };
 
-const FrameConfig kConfigs[] = {
+constexpr FrameConfig kConfigs[] = {
     {"bvh rebuild", "bvh", UpdateStrategy::kRebuild, "medium"},
     {"bvh refit", "bvh", UpdateStrategy::kRefit, "medium"},
     {"bvh adaptive", "bvh", UpdateStrategy::kAdaptive, "medium"},
     {"bvh adaptive mt", "bvh", UpdateStrategy::kAdaptive, "medium", TriangleTestKind::kMoller},
+    {"bvh rebuild morton", "bvh", UpdateStrategy::kRebuild, "medium", TriangleTestKind::kWatertight,
+     false, BuilderKind::kMorton},
+    {"bvh adaptive morton", "bvh", UpdateStrategy::kAdaptive, "medium",
+     TriangleTestKind::kWatertight, false, BuilderKind::kMorton},
+    {"bvh adaptive morton mt", "bvh", UpdateStrategy::kAdaptive, "medium",
+     TriangleTestKind::kMoller, false, BuilderKind::kMorton},
     {"embree dynamic refit", "embree", UpdateStrategy::kAdaptive, "refit"},
     {"embree dynamic low", "embree", UpdateStrategy::kAdaptive, "low"},
     {"embree dynamic refit robust", "embree", UpdateStrategy::kAdaptive, "refit",
@@ -52,7 +60,8 @@ const FrameConfig kConfigs[] = {
     {"embree dynamic low robust", "embree", UpdateStrategy::kAdaptive, "low",
      TriangleTestKind::kWatertight, true},
 };
-constexpr size_t kEmbreeRefitRow = 4;
+constexpr size_t kEmbreeRefitRow = 7;
+static_assert(std::string_view(kConfigs[kEmbreeRefitRow].label) == "embree dynamic refit");
 
 struct AnimCase {
   std::string name;  // "wave", "explode" or the scene's own
@@ -117,6 +126,7 @@ CaseResult run_config(const AnimCase& ac, const FrameConfig& fc, int threads, fl
     o.update = fc.update;
     o.embree_quality = fc.quality;
     o.triangle_test = fc.test;
+    o.build.builder = fc.builder;
     o.embree_robust = fc.robust;
     o.adaptive_factor = factor;
     std::unique_ptr<Intersector> isect = make_intersector(fc.backend, o);
@@ -278,7 +288,7 @@ BenchReport run_frames_bench(const FramesBenchConfig& config) {
       "= update mean / Embree dynamic refit's; frame_vs_best_embree = frame mean / the fastest "
       "Embree row's (< 1: faster than Embree); "
       "frame_vs_embree_matched: the same against the fastest Embree row of matching numerics, "
-      "watertight bvh rows against Embree's robust rows, the Möller–Trumbore row (mt) and "
+      "watertight bvh rows against Embree's robust rows, the Möller–Trumbore rows (mt) and "
       "Embree's default rows against each other (`hprt bench frontier` counts the rays each "
       "gets wrong).");
   table.add_note(
@@ -286,7 +296,8 @@ BenchReport run_frames_bench(const FramesBenchConfig& config) {
       "parameters) x the cost at the last rebuild; rebuilds counts the frames that rebuilt. Embree "
       "low "
       "quality rebuilds its (two-level, Morton) BVH every frame; refit quality refits its first "
-      "SAH tree.");
+      "SAH tree. The morton rows build with --builder morton (Morton codes, no SAH: "
+      "a fast build of a dearer tree).");
   return report;
 }
 

@@ -106,7 +106,8 @@ std::string param_name(const ::testing::TestParamInfo<Param>& info) {
 INSTANTIATE_TEST_SUITE_P(
     AllBuildersTestsKinds, BackendParity,
     ::testing::Combine(::testing::Values(BuilderKind::kSweep, BuilderKind::kPresorted,
-                                         BuilderKind::kBinned, BuilderKind::kParallel),
+                                         BuilderKind::kBinned, BuilderKind::kParallel,
+                                         BuilderKind::kMorton),
                        ::testing::Values(TriangleTestKind::kWatertight, TriangleTestKind::kMoller),
                        ::testing::Values(RayKind::kPrimary, RayKind::kRandom, RayKind::kShadow,
                                          RayKind::kReflection, RayKind::kVertexProbe,

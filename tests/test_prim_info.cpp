@@ -17,7 +17,7 @@ TEST(PrimInfo, KeepsValidTrianglesWithTheirRefs) {
   EXPECT_EQ(p.invalid, 5u);
   const std::vector<PrimRef> want = {{0, 0},  {0, 2}, {0, 4}, {0, 6}, {0, 8},
                                      {0, 10}, {1, 0}, {1, 1}, {1, 2}};
-  EXPECT_EQ(p.refs, want);
+  EXPECT_EQ(std::vector<PrimRef>(p.refs.begin(), p.refs.end()), want);
   EXPECT_EQ(p.bounds[1], AABB({2, 0, 0}, {3, 1, 0}));
   EXPECT_EQ(p.centroids[1], (Vec3f{2.5f, 0.5f, 0.0f}));
   AABB sb, cb;

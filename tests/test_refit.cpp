@@ -134,7 +134,7 @@ Scene soup_scene(size_t n = 20000) {
 TEST(Refit, SahCostMatchesTreeStatsAfterBuild) {
   run_with_threads(kThreads, [] {
     for (BuilderKind b : {BuilderKind::kSweep, BuilderKind::kPresorted, BuilderKind::kBinned,
-                          BuilderKind::kParallel}) {
+                          BuilderKind::kParallel, BuilderKind::kMorton}) {
       for (int mesh = 0; mesh < 3; ++mesh) {
         Scene s;
         if (mesh == 0) s.add_mesh(test::random_soup(5000, 3));

@@ -15,10 +15,13 @@ struct HandTree {
   PrimInfo prims;
   BuildTree tree;
   HandTree() {
+    prims.bounds = BuildArray<AABB>(5);
+    prims.centroids = BuildArray<Vec3f>(5);
+    prims.refs = BuildArray<PrimRef>(5);
     for (uint32_t i = 0; i < 5; ++i) {
-      prims.bounds.push_back(AABB({0, 0, 0}, {1, 1, 1}));
-      prims.centroids.push_back({0.5f, 0.5f, 0.5f});
-      prims.refs.push_back({0, i});
+      prims.bounds[i] = AABB({0, 0, 0}, {1, 1, 1});
+      prims.centroids[i] = {0.5f, 0.5f, 0.5f};
+      prims.refs[i] = {0, i};
     }
     const AABB unit({0, 0, 0}, {1, 1, 1}), right({1, 0, 0}, {2, 1, 1}), root({0, 0, 0}, {2, 1, 1});
     tree.nodes = {

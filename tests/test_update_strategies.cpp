@@ -105,6 +105,12 @@ DeformRun check_deformer(const std::string& kind) {
     mt.triangle_test = TriangleTestKind::kMoller;
     auto bvh_mt = make_intersector("bvh", mt);
     bvh_mt->build(scene);
+    // Adaptive over the Morton builder's trees.
+    BackendOptions morton;
+    morton.threads = kThreads;
+    morton.build.builder = BuilderKind::kMorton;
+    auto bvh_morton = make_intersector("bvh", morton);
+    bvh_morton->build(scene);
     auto embree_refit = embree_backend("refit"), embree_low = embree_backend("low");
     embree_refit->build(scene);
     embree_low->build(scene);
@@ -139,6 +145,11 @@ DeformRun check_deformer(const std::string& kind) {
       EXPECT_FALSE(bvh_mt->info().rebuilt);
       EXPECT_EQ(run_ray_diff(scene, rays, *bvh_mt, *fresh, false).bvh_wrong(), 0u)
           << kind << " frame " << frame << " refit/mt";
+      bvh_morton->update(scene);
+      EXPECT_EQ(run_ray_diff(scene, rays, *bvh_morton, *fresh, false).bvh_wrong(), 0u)
+          << kind << " frame " << frame << " adaptive/morton";
+      EXPECT_EQ(run_ray_diff(scene, rays, *bvh_morton, *fresh, true).bvh_wrong(), 0u)
+          << kind << " frame " << frame << " adaptive/morton occluded";
       // Embree's dynamic update answers as the fresh build does.
       std::vector<Hit> want(rays.size()), got(rays.size());
       fresh->intersect(rays, want);

@@ -41,6 +41,10 @@ class BuildArray {
   const T* begin() const { return data(); }
   const T* end() const { return data() + size_; }
 
+  bool operator==(const BuildArray& o) const {
+    return size_ == o.size_ && std::equal(begin(), end(), o.begin());
+  }
+
  private:
   HugeBuffer<T> data_;
   size_t size_ = 0;

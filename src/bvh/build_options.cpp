@@ -12,6 +12,8 @@ std::string_view to_string(BuilderKind k) {
       return "binned";
     case BuilderKind::kParallel:
       return "parallel";
+    case BuilderKind::kMorton:
+      return "morton";
   }
   return "?";
 }
@@ -21,6 +23,7 @@ std::optional<BuilderKind> parse_builder(std::string_view s) {
   if (s == "presorted") return BuilderKind::kPresorted;
   if (s == "binned") return BuilderKind::kBinned;
   if (s == "parallel") return BuilderKind::kParallel;
+  if (s == "morton") return BuilderKind::kMorton;
   return std::nullopt;
 }
 

@@ -7,7 +7,9 @@
 
 namespace hprt {
 
-enum class BuilderKind { kSweep, kPresorted, kBinned, kParallel };
+// The report's four SAH builders, and a Morton (linear BVH) builder for fast
+// per-frame rebuilds.
+enum class BuilderKind { kSweep, kPresorted, kBinned, kParallel, kMorton };
 enum class TriangleTestKind { kWatertight, kMoller };
 // Traversal layout the build tree is flattened into: binary 32-byte nodes, or
 // wide nodes of 4 or 8 children with SoA bounds (bvh/node_wide.h).

@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "bvh/binned_subtree.h"
+#include "bvh/build_parts.h"
 #include "bvh/builder_common.h"
 #include "bvh/builders.h"
 #include "bvh/huge_buffer.h"
@@ -28,14 +29,6 @@ namespace hprt {
 namespace {
 
 constexpr size_t kChunk = 8192;  // fixed work unit: never depends on the thread count
-
-// A node of the parallel top, or a sequentially built subtree below it.
-struct Part {
-  BuildNode node;
-  std::unique_ptr<Part> left, right;
-  std::vector<BuildNode> subtree;  // non-empty: this part is a finished subtree
-  size_t total = 0;                // nodes in this part
-};
 
 struct BoundsPair {
   AABB b, c;
@@ -123,25 +116,6 @@ class ParallelBuilder {
     return part;
   }
 
-  // Writes `part` into out[offset, offset + part.total) in canonical preorder.
-  static void place(const Part& part, size_t offset, BuildNode* out) {
-    if (!part.subtree.empty()) {
-      const uint32_t off = static_cast<uint32_t>(offset);
-      for (size_t i = 0; i < part.subtree.size(); ++i) {
-        BuildNode nd = part.subtree[i];
-        if (!nd.is_leaf()) nd.right += off;
-        out[offset + i] = nd;
-      }
-      return;
-    }
-    out[offset] = part.node;
-    if (part.node.is_leaf()) return;
-    const size_t right = offset + 1 + part.left->total;
-    out[offset].right = static_cast<uint32_t>(right);
-    tbb::parallel_invoke([&] { place(*part.left, offset + 1, out); },
-                         [&] { place(*part.right, right, out); });
-  }
-
  private:
   // Bins of every kChunk-sized chunk of src[0, n) (kept: the partition takes
   // its per-chunk left counts from them) and their merge (exact in any order).
@@ -214,10 +188,7 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data());
   const BoundsPair root = b.bounds_of(0, n, 0);
   const std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
-  tree.nodes.reserve(top->total);
-  advise_huge_pages(tree.nodes.data(), top->total * sizeof(BuildNode));
-  tree.nodes.resize(top->total);
-  ParallelBuilder::place(*top, 0, tree.nodes.data());
+  place_parts(*top, tree);
   return tree;
 }
 

@@ -15,6 +15,8 @@ BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options) {
       return build_binned(prims, options);
     case BuilderKind::kParallel:
       return build_parallel(prims, options);
+    case BuilderKind::kMorton:
+      return build_morton(prims, options);
   }
   return build_parallel(prims, options);
 }

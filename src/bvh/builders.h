@@ -1,5 +1,5 @@
-// The four builders of the report, one free function each, all returning the
-// same canonical BuildTree. `build_tree` dispatches on options.builder.
+// The four builders of the report and a Morton builder, one free function
+// each, all returning the same canonical BuildTree. `build_tree` dispatches on options.builder.
 #pragma once
 
 #include "bvh/build_options.h"
@@ -13,6 +13,8 @@ BuildTree build_sweep(const PrimInfo& prims, const BuildOptions& options);      
 BuildTree build_presorted(const PrimInfo& prims, const BuildOptions& options);  // Algorithm 2
 BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options);     // Algorithm 3
 BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options);   // Algorithm 5
+// Not in the report: Morton codes, no SAH (builder_morton.cpp).
+BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
 
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
 

@@ -57,16 +57,10 @@ PrimInfo make_prim_info(const Scene& scene) {
     all += ch.end - ch.begin;
   }
   info.invalid = all - total;
-  // Huge pages first: the resizes touch every page (tens of MB at 1M triangles).
-  info.bounds.reserve(total);
-  info.centroids.reserve(total);
-  info.refs.reserve(total);
-  advise_huge_pages(info.bounds.data(), total * sizeof(AABB));
-  advise_huge_pages(info.centroids.data(), total * sizeof(Vec3f));
-  advise_huge_pages(info.refs.data(), total * sizeof(PrimRef));
-  info.bounds.resize(total);
-  info.centroids.resize(total);
-  info.refs.resize(total);
+  // Uninitialised: pass 2 writes every element (first touch in parallel).
+  info.bounds = BuildArray<AABB>(total);
+  info.centroids = BuildArray<Vec3f>(total);
+  info.refs = BuildArray<PrimRef>(total);
   // Pass 2: fill, and reduce the bounds per chunk (min/max: exact in any order).
   std::vector<AABB> chunk_bounds(chunks.size()), chunk_cbounds(chunks.size());
   tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t c) {

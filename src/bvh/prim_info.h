@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bvh/build_array.h"
 #include "core/aabb.h"
 #include "core/scene.h"
 
@@ -18,10 +19,12 @@ struct PrimRef {
   bool operator==(const PrimRef&) const = default;
 };
 
+// The arrays are BuildArrays: allocated uninitialised and filled in parallel
+// (a std::vector would first initialise tens of MB on one thread).
 struct PrimInfo {
-  std::vector<AABB> bounds;
-  std::vector<Vec3f> centroids;
-  std::vector<PrimRef> refs;
+  BuildArray<AABB> bounds;
+  BuildArray<Vec3f> centroids;
+  BuildArray<PrimRef> refs;
   AABB scene_bounds;     // union of `bounds`
   AABB centroid_bounds;  // bounds of `centroids`
   size_t invalid = 0;    // triangles left out (degenerate or non-finite)

@@ -29,8 +29,9 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
         ->check(CLI::IsMember({"bvh", "embree"}))
         ->capture_default_str();
   add_threads_option(cmd, o.options.threads);
-  cmd.add_option("--builder", o.builder, "bvh: builder")
-      ->check(CLI::IsMember({"sweep", "presorted", "binned", "parallel"}))
+  cmd.add_option("--builder", o.builder,
+                 "bvh: builder (the report's four SAH builders, or morton: fast, no SAH)")
+      ->check(CLI::IsMember({"sweep", "presorted", "binned", "parallel", "morton"}))
       ->capture_default_str();
   cmd.add_option("--bins", o.options.build.bins,
                  "bvh: bins per axis (binned, parallel; small nodes use fewer)")

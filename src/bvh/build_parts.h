@@ -1,0 +1,57 @@
+// The top of a tree built by parallel tasks (builder_parallel, builder_morton):
+// each task returns a Part, either one node with two child parts or a subtree
+// built sequentially into its own preorder node vector (right children
+// relative to that vector, leaf ranges already final). place_parts stitches
+// them into the canonical preorder of build_tree.h from the parts' sizes, so
+// the tree never depends on which thread built what.
+#pragma once
+
+#include <tbb/parallel_invoke.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bvh/build_tree.h"
+#include "bvh/huge_buffer.h"
+
+namespace hprt {
+
+struct Part {
+  BuildNode node;
+  std::unique_ptr<Part> left, right;
+  std::vector<BuildNode> subtree;  // non-empty: this part is a finished subtree
+  size_t total = 0;                // nodes in this part
+
+  const AABB& bounds() const { return subtree.empty() ? node.bounds : subtree.front().bounds; }
+};
+
+// Writes `part` into out[offset, offset + part.total) in canonical preorder.
+inline void place_part(const Part& part, size_t offset, BuildNode* out) {
+  if (!part.subtree.empty()) {
+    const uint32_t off = static_cast<uint32_t>(offset);
+    for (size_t i = 0; i < part.subtree.size(); ++i) {
+      BuildNode nd = part.subtree[i];
+      if (!nd.is_leaf()) nd.right += off;
+      out[offset + i] = nd;
+    }
+    return;
+  }
+  out[offset] = part.node;
+  if (part.node.is_leaf()) return;
+  const size_t right = offset + 1 + part.left->total;
+  out[offset].right = static_cast<uint32_t>(right);
+  tbb::parallel_invoke([&] { place_part(*part.left, offset + 1, out); },
+                       [&] { place_part(*part.right, right, out); });
+}
+
+// tree.nodes = the whole tree of `top`, first touched by the placing tasks.
+inline void place_parts(const Part& top, BuildTree& tree) {
+  tree.nodes.reserve(top.total);
+  advise_huge_pages(tree.nodes.data(), top.total * sizeof(BuildNode));
+  tree.nodes.resize(top.total);
+  place_part(top, 0, tree.nodes.data());
+}
+
+}  // namespace hprt
