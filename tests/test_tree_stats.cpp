@@ -1,10 +1,15 @@
 // Tests of compute_tree_stats: counts, depth, normalised SAH cost, tree hash.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <bit>
 #include <cmath>
+#include <utility>
+#include <vector>
 
 #include "bvh/builders.h"
 #include "bvh_test_meshes.h"
+#include "core/parallel.h"
 
 namespace hprt::test {
 namespace {
@@ -76,6 +81,35 @@ TEST(TreeStats, BuiltTreesHashEquallyAndDifferAcrossBuilders) {
   EXPECT_EQ(a.nodes, 2 * a.leaves - 1);
   EXPECT_GT(a.sah_cost, 1.0);
   EXPECT_GE(a.depth, 12);  // at least log2(3000 / 4)
+}
+
+// Computed in parallel over fixed chunks: every figure, the SAH sum's bits
+// included, is the same for any thread count (trees of many chunks).
+TEST(TreeStats, SameFiguresForAnyThreadCount) {
+  const PrimInfo p = prims_of(random_soup(60000, 33));
+  const BuildTree t = build_binned(p, BuildOptions{});
+  const TreeStats one = run_with_threads(1, [&] { return compute_tree_stats(t, p); });
+  for (int threads : {2, 7}) {
+    const TreeStats s = run_with_threads(threads, [&] { return compute_tree_stats(t, p); });
+    EXPECT_EQ(s.tree_hash, one.tree_hash) << threads;
+    EXPECT_EQ(std::bit_cast<uint64_t>(s.sah_cost), std::bit_cast<uint64_t>(one.sah_cost));
+    EXPECT_EQ(s.depth, one.depth);
+    EXPECT_EQ(s.leaves, one.leaves);
+    EXPECT_EQ(s.max_leaf_size, one.max_leaf_size);
+  }
+  // Depth by an explicit walk.
+  int deepest = 0;
+  std::vector<std::pair<uint32_t, int>> stack{{0u, 1}};
+  while (!stack.empty()) {
+    const auto [i, d] = stack.back();
+    stack.pop_back();
+    deepest = std::max(deepest, d);
+    if (!t.nodes[i].is_leaf()) {
+      stack.push_back({i + 1, d + 1});
+      stack.push_back({t.nodes[i].right, d + 1});
+    }
+  }
+  EXPECT_EQ(one.depth, deepest);
 }
 
 TEST(TreeStats, SingleLeafCostsItsTriangleCount) {
