@@ -112,7 +112,8 @@ BenchReport run_build_bench(const BuildBenchConfig& config) {
       report.add_table("table", "Build time per builder and thread count", make_build_table());
 
   const std::vector<BuilderKind> builders = {BuilderKind::kSweep, BuilderKind::kPresorted,
-                                             BuilderKind::kBinned, BuilderKind::kParallel};
+                                             BuilderKind::kBinned, BuilderKind::kParallel,
+                                             BuilderKind::kMorton};
   const char* qualities[] = {"low", "medium", "high"};
   size_t steps = 0;  // timed calls
   for (const auto& in : inputs) {
@@ -281,7 +282,8 @@ BenchReport run_build_bench(const BuildBenchConfig& config) {
       "sah_cost: normalised SAH (inner 1, leaf = triangles, weighted by SA/SA(root)); "
       "sah_vs_embree_bvh = ours / rtcBuildBVH's on the same primitives (binary, "
       "leaves <= 4, same SAH constants). Embree's own BVH (commit rows) is 4/8-wide "
-      "with its own leaves, so no comparable SAH cost.");
+      "with its own leaves, so no comparable SAH cost. morton is not one of the report's "
+      "builders: Morton codes, no SAH (the per-frame rebuild option of deformable scenes).");
   table.add_note(
       "bytes_per_tri: ours = binary (bvh2) nodes (32 B) + leaf triangle data as the "
       "default backend keeps it (the watertight test's vertices and the refs; the bvh8 "

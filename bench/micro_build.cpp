@@ -186,10 +186,10 @@ void register_all() {
       common(benchmark::RegisterBenchmark(("PrimInfo/" + tag).c_str(), BM_PrimInfo)
                  ->Args({s, threads}));
     for (BuilderKind k : {BuilderKind::kSweep, BuilderKind::kPresorted, BuilderKind::kBinned,
-                          BuilderKind::kParallel}) {
+                          BuilderKind::kParallel, BuilderKind::kMorton}) {
       if (s != 0 && (k == BuilderKind::kSweep || k == BuilderKind::kPresorted)) continue;
       for (int threads : {1, 0}) {
-        if (threads == 0 && k != BuilderKind::kParallel) continue;
+        if (threads == 0 && k != BuilderKind::kParallel && k != BuilderKind::kMorton) continue;
         common(benchmark::RegisterBenchmark(
                    ("Build/" + tag + "/" + std::string(hprt::to_string(k))).c_str(), BM_Build)
                    ->Args({s, int(k), threads}));

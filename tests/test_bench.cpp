@@ -127,7 +127,7 @@ TEST_F(Bench, BuildQuickWritesEveryColumnAndEmbreeRows) {
       EXPECT_GT(number(row.at("bytes_per_tri")), 0.0) << row.at("builder");
     }
   }
-  for (const char* b : {"sweep", "presorted", "binned", "parallel", "embree-commit-low",
+  for (const char* b : {"sweep", "presorted", "binned", "parallel", "morton", "embree-commit-low",
                         "embree-commit-medium", "embree-commit-high", "embree-buildbvh"})
     EXPECT_EQ(builders.count(b), 2u) << b;  // 1 thread and 2 threads
   check_json("build.json", "table", csv);
