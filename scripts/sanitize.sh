@@ -5,8 +5,8 @@
 #           `hprt` and every tests/test_*.cpp executable, the whole CTest suite,
 #           leak detection on.
 #   --tsan  build-tsan (-DHPRT_SANITIZE=thread, -O2 -g1): `hprt` and the parallel
-#           tests (builder, bvh backend, refit, renderer, concurrency,
-#           signal), each run under TSan with tests/sanitizers/tsan.supp. Debian's
+#           tests (parallel and Morton builders, tree statistics, bvh backend,
+#           refit, renderer, concurrency, signal), each run under TSan with tests/sanitizers/tsan.supp. Debian's
 #           libtbb is not instrumented: tests/sanitizers/tbb_tsan_sync.cpp makes
 #           TSan see oneTBB's joins, and tsan.supp says what is suppressed and why.
 # HPRT_ASAN_BUILD_DIR / HPRT_TSAN_BUILD_DIR override the build directories.
@@ -57,8 +57,8 @@ if [[ $do_tsan == 1 ]]; then
   # > 5 min (20k-triangle sphere, 3 updates) without a report; its parallel
   # refit/rebuild paths are test_refit's DeterministicForAnyThreadCount.
   tests=()
-  for pattern in test_builder_parallel test_bvh_backend 'test_refit*' \
-      test_whitted test_render_golden test_concurrency test_signal; do
+  for pattern in test_builder_parallel test_builder_morton test_tree_stats test_bvh_backend \
+      'test_refit*' test_whitted test_render_golden test_concurrency test_signal; do
     for f in "$root"/tests/$pattern.cpp; do
       [[ -e "$f" ]] && tests+=("$(basename "$f" .cpp)")
     done
@@ -70,15 +70,19 @@ if [[ $do_tsan == 1 ]]; then
   # TSan slows our instrumented build/traversal code 20-50x, and TBB workers
   # spin on 2 oversubscribed cores, so suites with large meshes or 7/16-thread
   # sweeps take minutes per case (measured: BuilderParallel.EqualsBinnedForAny-
-  # ThreadCount 205 s, Refit.SahCostMatchesTreeStatsAfterBuild > 100 s,
+  # ThreadCount 205 s, BuilderMorton.SameTreeForAnyThreadCountAndCutoff 340 s,
+  # BuilderMorton.SahCostWithinBoundOfBinned 72 s,
+  # Refit.SahCostMatchesTreeStatsAfterBuild > 100 s,
   # RenderGolden bvh cases > 90 s each, BvhBackend.OneAndTwoThreadsIdentical
   # > 150 s). Per suite, the cases below still run
-  # every parallel path (parallel binning/partition/stitching, parallel refit,
+  # every parallel path (parallel binning/partition/stitching, the Morton
+  # radix sort and subtree tasks, tree statistics, parallel refit,
   # tile scheduler, concurrent callers); the rest run in the
   # Release and ASan passes.
   declare -A filter=(
     [test_builder_parallel]="BuilderParallel.*:-*EqualsBinnedForAnyThreadCount:*SmallCutoffStitchesSubtreesExactly:*EqualsBinnedForEveryBinCount"
-    [test_bvh_backend]="BvhBackend.InfoReportsTheBuild:BvhBackend.EmptySceneAndInvalidRaysMiss"
+    [test_builder_morton]="BuilderMorton.*:-*SameTreeForAnyThreadCountAndCutoff:*SahCostWithinBoundOfBinned"
+    [test_bvh_backend]="BvhBackend.InfoReportsTheBuild:BvhBackend.EmptySceneAndInvalidRaysMiss:BvhBackend.RebuildingUpdateEqualsAFreshBuild"
     [test_refit]="Refit.DeterministicForAnyThreadCount:Refit.EmptyAndSingleLeafTrees:Refit.ReportsATriangleThatBecameInvalid"
     [test_render_golden]="*embree*"
   )

@@ -183,6 +183,43 @@ TEST(BvhBackend, OneAndTwoThreadsIdentical) {
   }
 }
 
+// update()'s rebuild computes the tree statistics beside the flattening
+// (build() after it): same statistics, hash and answers as a fresh build of
+// the moved scene, for both SAH and Morton trees, at 2 threads.
+TEST(BvhBackend, RebuildingUpdateEqualsAFreshBuild) {
+  const Scene scene = scene_of({test::random_soup(6000, 12, 0.03f), test::icosphere(3)});
+  Scene moved = scene;
+  for (TriangleMesh& m : moved.meshes)
+    for (Vec3f& p : m.positions) p = p + Vec3f{0.2f * std::sin(5 * p.y), 0.1f * p.z, 0.0f};
+  const auto rays = test::random_rays(moved.bounds(), 2000, 33);
+  for (BuilderKind builder : {BuilderKind::kParallel, BuilderKind::kMorton}) {
+    BackendOptions o;
+    o.build.builder = builder;
+    o.build.parallel_cutoff = 256;  // parallel tasks even on this small scene
+    o.update = UpdateStrategy::kRebuild;
+    run_with_threads(2, [&] {
+      auto updated = make_intersector("bvh", o);
+      updated->build(scene);
+      updated->update(moved);
+      auto fresh = make_intersector("bvh", o);
+      fresh->build(moved);
+      const Answers a = ask(*updated, rays), b = ask(*fresh, rays);
+      EXPECT_TRUE(a.info.rebuilt);
+      EXPECT_EQ(a.info.stats.tree_hash, b.info.stats.tree_hash) << to_string(builder);
+      EXPECT_EQ(a.info.stats.sah_cost, b.info.stats.sah_cost);
+      EXPECT_EQ(a.info.stats.nodes, b.info.stats.nodes);
+      EXPECT_EQ(a.info.stats.depth, b.info.stats.depth);
+      EXPECT_EQ(a.info.memory_bytes, b.info.memory_bytes);
+      for (size_t i = 0; i < rays.size(); ++i) {
+        EXPECT_EQ(a.hits[i].t, b.hits[i].t) << i;
+        EXPECT_EQ(a.hits[i].prim_id, b.hits[i].prim_id) << i;
+        EXPECT_EQ(a.occluded[i], b.occluded[i]) << i;
+      }
+      return 0;
+    });
+  }
+}
+
 TEST(BvhBackend, InfoReportsTheBuild) {
   const Scene scene = scene_of({test::with_invalid_triangles(), test::random_soup(1000, 1)});
   BackendOptions o;
