@@ -201,9 +201,9 @@ class BvhIntersector final : public Intersector {
  private:
   // Full build; returns its ms: prim info + build + flatten + what update()
   // needs later (layout record, refit index, the new tree's SAH cost). The
-  // tree statistics and hash (sequential, for reporting) are computed after
-  // that, or, with `overlap_stats`, as a task beside the flattening (on 2
-  // threads they then cost next to nothing; on 1 they count in full).
+  // tree statistics and hash (for reporting only) are computed after that,
+  // or, with `overlap_stats`, as a task beside the flattening (on 1 thread
+  // they then count in full).
   double rebuild(const Scene& scene, bool overlap_stats) {
     const auto start = std::chrono::steady_clock::now();
     const PrimInfo prims = make_prim_info(scene);
