@@ -124,6 +124,44 @@ TEST(Flatten, KeepsOnlyTheTriangleArraysAskedFor) {
   EXPECT_TRUE(refit(v, b.scene, RefitTriangles::kVerts, nullptr).valid);
 }
 
+// A rebuild gathers into the last build's arrays: the same size keeps the
+// storage (every triangle rewritten), another size or array set reallocates;
+// the result equals a fresh gather either way. The node pass alone gives the
+// nodes of flatten.
+TEST(Flatten, GatherIntoReusedStorageEqualsAFreshGather) {
+  const test::BuiltBvh b = test::build_flat({test::random_soup(3000, 5)}, BuildOptions{});
+  const FlatBvh nodes = flatten_nodes(b.tree, b.prims);
+  ASSERT_EQ(nodes.nodes.size(), b.bvh.nodes.size());
+  EXPECT_EQ(
+      std::memcmp(nodes.nodes.data(), b.bvh.nodes.data(), nodes.nodes.size() * sizeof(BinaryNode)),
+      0);
+  EXPECT_EQ(nodes.triangles.size(), 0u);
+  const LeafTriangles fresh =
+      gather_leaf_triangles(b.tree, b.prims, b.scene, TriangleArrays::kVerts);
+  LeafTriangles reused;
+  reused.allocate(fresh.size(), TriangleArrays::kVerts);
+  for (TriangleVerts& t : reused.verts) t = TriangleVerts{};  // stale contents
+  const TriangleVerts* storage = reused.verts.data();
+  gather_leaf_triangles(b.tree, b.prims, b.scene, TriangleArrays::kVerts, reused);
+  EXPECT_EQ(reused.verts.data(), storage);
+  EXPECT_EQ(
+      std::memcmp(reused.verts.data(), fresh.verts.data(), fresh.size() * sizeof(TriangleVerts)),
+      0);
+  EXPECT_EQ(reused.refs, fresh.refs);
+  // Other arrays asked for: the held ones follow.
+  gather_leaf_triangles(b.tree, b.prims, b.scene, TriangleArrays::kEdges, reused);
+  EXPECT_TRUE(reused.holds(TriangleArrays::kEdges));
+  EXPECT_TRUE(reused.verts.empty());
+  // Another tree of another size.
+  const test::BuiltBvh small = test::build_flat({test::random_soup(100, 6)}, BuildOptions{});
+  gather_leaf_triangles(small.tree, small.prims, small.scene, TriangleArrays::kBoth, reused);
+  EXPECT_EQ(reused.size(), small.bvh.triangles.size());
+  EXPECT_EQ(reused.refs, small.bvh.triangles.refs);
+  EXPECT_EQ(std::memcmp(reused.edges.data(), small.bvh.triangles.edges.data(),
+                        reused.size() * sizeof(TriangleEdges)),
+            0);
+}
+
 TEST(Flatten, EmptySceneGivesEmptyLayout) {
   const test::BuiltBvh b = test::build_flat({}, BuildOptions{});
   EXPECT_TRUE(b.bvh.empty());

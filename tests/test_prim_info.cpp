@@ -1,6 +1,8 @@
 // Tests of make_prim_info: valid triangles only, refs, boxes, centroids, bounds.
 #include <gtest/gtest.h>
 
+#include <vector>
+
 #include "bvh/prim_info.h"
 #include "bvh_test_meshes.h"
 #include "core/parallel.h"
@@ -44,6 +46,40 @@ TEST(PrimInfo, SameResultForAnyThreadCount) {
   EXPECT_EQ(one.refs, many.refs);
   EXPECT_EQ(one.scene_bounds, many.scene_bounds);
   EXPECT_EQ(one.centroid_bounds, many.centroid_bounds);
+}
+
+// Invalid triangles in many chunks (one chunk all invalid, a mesh all
+// invalid): the gaps they leave are closed, everything in input order.
+TEST(PrimInfo, MatchesASequentialReferenceAcrossChunks) {
+  Scene s;
+  TriangleMesh a = random_soup(60000, 3);
+  for (size_t i = 0; i < a.triangles.size(); i += 61) a.triangles[i][2] = a.triangles[i][0];
+  for (size_t i = 20000; i < 40000; ++i) a.triangles[i][1] = a.triangles[i][0];
+  TriangleMesh dead = random_soup(5, 4);
+  for (auto& t : dead.triangles) t[1] = t[0];
+  s.add_mesh(a);
+  s.add_mesh(dead);
+  s.add_mesh(grid(120, 120));
+  std::vector<AABB> bounds;
+  std::vector<Vec3f> centroids;
+  std::vector<PrimRef> refs;
+  for (size_t g = 0; g < s.meshes.size(); ++g) {
+    const TriangleMesh& m = s.meshes[g];
+    for (size_t i = 0; i < m.triangle_count(); ++i) {
+      if (!m.triangle_valid(i)) continue;
+      AABB b;
+      for (int k = 0; k < 3; ++k) b.extend(m.positions[m.triangles[i][k]]);
+      bounds.push_back(b);
+      centroids.push_back(b.center());
+      refs.push_back({uint32_t(g), uint32_t(i)});
+    }
+  }
+  const PrimInfo p = run_with_threads(2, [&] { return make_prim_info(s); });
+  EXPECT_EQ(p.invalid, 60000 + 5 + 2 * 120 * 120 - refs.size());
+  EXPECT_GT(p.invalid, 20000u);
+  EXPECT_EQ(std::vector<AABB>(p.bounds.begin(), p.bounds.end()), bounds);
+  EXPECT_EQ(std::vector<Vec3f>(p.centroids.begin(), p.centroids.end()), centroids);
+  EXPECT_EQ(std::vector<PrimRef>(p.refs.begin(), p.refs.end()), refs);
 }
 
 TEST(PrimInfo, EmptyScene) {

@@ -1,7 +1,7 @@
 // hprt's own BVH behind the Intersector interface: prim info -> build tree
 // (the builder named in the options, oneTBB inside the caller's task arena)
 // -> the traversal layout named in the options (binary, or wide 4/8 collapsed
-// from the same tree; a wide layout's node and triangle passes as two tasks)
+// from the same tree; node and triangle passes as two tasks)
 // and the tree statistics; batches of rays traced in parallel blocks with one
 // switch per batch into a fully inlined traversal.
 // update(): per BackendOptions::update, a full rebuild, a refit over the last
@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -22,6 +23,7 @@
 #include "bvh/builders.h"
 #include "bvh/flatten.h"
 #include "bvh/flatten_wide.h"
+#include "bvh/huge_buffer.h"
 #include "bvh/refit.h"
 #include "bvh/refit_wide.h"
 #include "bvh/traverse.h"
@@ -148,9 +150,11 @@ class BvhIntersector final : public Intersector {
   // A refit allocates nothing: it rewrites the existing nodes and triangles.
   // build_ms: the whole update (checks, refit, rebuild); a rebuild here
   // computes the tree statistics beside the flattening, so they count where
-  // they outlast it (build() leaves them out).
+  // they outlast it (build() leaves them out). From the first update on, the
+  // backend keeps the freed build arrays for the next rebuild (huge_buffer.h).
   void update(const Scene& scene) override {
     const auto start = std::chrono::steady_clock::now();
+    if (!retain_buffers_) retain_buffers_.emplace();
     bool rebuilt = true;
     double ms = 0.0;
     if (options_.update == UpdateStrategy::kRebuild || !same_layout(scene) ||
@@ -208,6 +212,11 @@ class BvhIntersector final : public Intersector {
     const auto start = std::chrono::steady_clock::now();
     const PrimInfo prims = make_prim_info(scene);
     const BuildTree tree = build_tree(prims, options_.build);
+    // The last build's triangle arrays (and refit index) are rewritten in
+    // place: over the same triangles they have the sizes already, so a
+    // rebuild of a deforming mesh faults in no fresh pages for them.
+    LeafTriangles triangles =
+        with_layout(*this, [](auto& bvh) { return std::move(bvh.triangles); });
     // Only the layout in use is kept; the others are left empty.
     bvh2_ = FlatBvh{};
     bvh4_ = WideBvh<4>{};
@@ -215,7 +224,13 @@ class BvhIntersector final : public Intersector {
     record_layout(scene, prims);
     const auto make_layout = [&] {
       with_layout(*this, [&](auto& bvh) {
-        flatten_into(bvh, refit_index_, tree, prims, scene, test_arrays());
+        // The node pass beside the triangle pass and the refit index.
+        tbb::parallel_invoke([&] { flatten_nodes_into(bvh, tree, prims); },
+                             [&] {
+                               gather_leaf_triangles(tree, prims, scene, test_arrays(), triangles);
+                               make_refit_index(triangles, scene, refit_index_);
+                             });
+        bvh.triangles = std::move(triangles);
         rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
         info_.memory_bytes = bvh.memory_bytes();
       });
@@ -240,24 +255,12 @@ class BvhIntersector final : public Intersector {
     return options_.triangle_test == TriangleTestKind::kMoller ? TriangleArrays::kEdges
                                                                : TriangleArrays::kVerts;
   }
-  // The layout and its refit index.
-  static void flatten_into(FlatBvh& out, RefitIndex& index, const BuildTree& tree,
-                           const PrimInfo& prims, const Scene& scene, TriangleArrays arrays) {
-    out = flatten(tree, prims, scene, arrays);
-    index = make_refit_index(out.triangles, scene);
+  static void flatten_nodes_into(FlatBvh& out, const BuildTree& tree, const PrimInfo& prims) {
+    out = flatten_nodes(tree, prims);
   }
-  // The wide layout's node pass is sequential; its triangle pass and the
-  // refit index run beside it.
   template <int N>
-  static void flatten_into(WideBvh<N>& out, RefitIndex& index, const BuildTree& tree,
-                           const PrimInfo& prims, const Scene& scene, TriangleArrays arrays) {
-    LeafTriangles triangles;
-    tbb::parallel_invoke([&] { out = flatten_wide_nodes<N>(tree, prims); },
-                         [&] {
-                           triangles = gather_leaf_triangles(tree, prims, scene, arrays);
-                           index = make_refit_index(triangles, scene);
-                         });
-    out.triangles = std::move(triangles);
+  static void flatten_nodes_into(WideBvh<N>& out, const BuildTree& tree, const PrimInfo& prims) {
+    out = flatten_wide_nodes<N>(tree, prims);
   }
   static double sah_cost_of(const FlatBvh& bvh) { return flat_sah_cost(bvh); }
   template <int N>
@@ -305,10 +308,11 @@ class BvhIntersector final : public Intersector {
   WideBvh<4> bvh4_;
   WideBvh<8> bvh8_;
   BuildInfo info_;
-  std::vector<MeshLayout> layout_;  // per mesh at the last rebuild
-  std::vector<PrimRef> invalid_;    // triangles left out at the last rebuild
-  RefitIndex refit_index_;          // leaf-order vertex indices for refit()
-  double rebuild_sah_cost_ = 0.0;   // sah_cost right after the last rebuild
+  std::vector<MeshLayout> layout_;                     // per mesh at the last rebuild
+  std::vector<PrimRef> invalid_;                       // triangles left out at the last rebuild
+  RefitIndex refit_index_;                             // leaf-order vertex indices for refit()
+  double rebuild_sah_cost_ = 0.0;                      // sah_cost right after the last rebuild
+  std::optional<HugeBufferRetention> retain_buffers_;  // held once animated
 };
 
 }  // namespace

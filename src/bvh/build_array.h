@@ -30,6 +30,16 @@ class BuildArray {
     return *this;
   }
 
+  // n elements, contents unspecified: the storage is kept when the size is
+  // unchanged (a rebuild of a deforming mesh writes the same arrays again
+  // instead of faulting in fresh pages), else allocated anew.
+  void reset(size_t n) {
+    if (n != size_) *this = BuildArray(n);
+  }
+
+  // Keeps the first n <= size() elements (and the storage).
+  void shrink(size_t n) { size_ = n < size_ ? n : size_; }
+
   size_t size() const { return size_; }
   bool empty() const { return size_ == 0; }
   T* data() { return data_.get(); }

@@ -108,6 +108,7 @@ class MortonBuilder {
  private:
   bool is_leaf(size_t n) const { return n <= static_cast<size_t>(o_.max_leaf_size); }
   uint32_t code(size_t i) const { return uint32_t(keys_[i] >> kCodeShift); }
+  const AABB& box(size_t i) const { return boxes_[uint32_t(keys_[i])]; }
 
   // Sequential subtree of [begin, end) appended in preorder to `out`, which
   // starts with the subtree's root (right children are indices into `out`).
@@ -116,7 +117,7 @@ class MortonBuilder {
     const size_t self = out.size();
     if (is_leaf(end - begin)) {
       AABB box;
-      for (size_t i = begin; i < end; ++i) box.extend(boxes_[i]);
+      for (size_t i = begin; i < end; ++i) box.extend(this->box(i));
       out.push_back(make_leaf(box, begin, end - begin));
       return box;
     }
@@ -148,7 +149,7 @@ class MortonBuilder {
 
   const BuildOptions& o_;
   const uint64_t* keys_;  // sorted
-  const AABB* boxes_;     // prim boxes in sorted order
+  const AABB* boxes_;     // PrimInfo::bounds, indexed by a key's low 32 bits
 };
 
 }  // namespace
@@ -180,16 +181,12 @@ BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options) {
   tree.prim_order.reserve(n);
   advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
   tree.prim_order.resize(n);
-  const auto boxes = make_huge_buffer<AABB>(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
                     [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t i = r.begin(); i != r.end(); ++i) {
-                        const uint32_t p = static_cast<uint32_t>(sorted[i]);
-                        tree.prim_order[i] = p;
-                        boxes[i] = prims.bounds[p];
-                      }
+                      for (size_t i = r.begin(); i != r.end(); ++i)
+                        tree.prim_order[i] = static_cast<uint32_t>(sorted[i]);
                     });
-  const MortonBuilder builder(options, sorted, boxes.get());
+  const MortonBuilder builder(options, sorted, prims.bounds.data());
   place_parts(*builder.build(0, n, 1), tree);
   return tree;
 }

@@ -43,8 +43,14 @@ void gather_range(const BuildTree& tree, const PrimInfo& prims, const Scene& sce
 
 LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims,
                                     const Scene& scene, TriangleArrays arrays) {
-  const size_t m = tree.prim_order.size();
   LeafTriangles tris;
+  gather_leaf_triangles(tree, prims, scene, arrays, tris);
+  return tris;
+}
+
+void gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                           TriangleArrays arrays, LeafTriangles& tris) {
+  const size_t m = tree.prim_order.size();
   tris.allocate(m, arrays);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, m, 4096),
                     [&](const tbb::blocked_range<size_t>& r) {
@@ -60,11 +66,16 @@ LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims
                                                                       r.begin(), r.end());
                       }
                     });
-  return tris;
 }
 
 FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
                 TriangleArrays arrays) {
+  FlatBvh out = flatten_nodes(tree, prims);
+  gather_leaf_triangles(tree, prims, scene, arrays, out.triangles);
+  return out;
+}
+
+FlatBvh flatten_nodes(const BuildTree& tree, const PrimInfo& prims) {
   FlatBvh out;
   const size_t n = tree.nodes.size();
   if (n == 0) return out;
@@ -103,8 +114,6 @@ FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene
   }
   if (visited != n || (n > 1 && next != n + 1))
     throw std::invalid_argument("flatten: build tree is not a single binary tree");
-
-  out.triangles = gather_leaf_triangles(tree, prims, scene, arrays);
   return out;
 }
 

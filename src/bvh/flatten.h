@@ -17,6 +17,10 @@ namespace hprt {
 FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
                 TriangleArrays arrays = TriangleArrays::kBoth);
 
+// The node pass alone (`triangles` left empty), for gather_leaf_triangles to
+// fill, which may run at the same time (both only read `tree` and `prims`).
+FlatBvh flatten_nodes(const BuildTree& tree, const PrimInfo& prims);
+
 // The triangle pass of every layout: prim_order's triangles copied into leaf
 // order with their test data (the `arrays` of verts, edges) and input refs,
 // in parallel. prim_order's indices must be in range of `prims` (builders
@@ -24,5 +28,9 @@ FlatBvh flatten(const BuildTree& tree, const PrimInfo& prims, const Scene& scene
 LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims,
                                     const Scene& scene,
                                     TriangleArrays arrays = TriangleArrays::kBoth);
+// The same into `out`, whose arrays are reused where they have the size
+// already (a rebuild over the same triangles writes the last build's storage).
+void gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                           TriangleArrays arrays, LeafTriangles& out);
 
 }  // namespace hprt

@@ -33,13 +33,12 @@ struct LeafTriangles {
   BuildArray<PrimRef> refs;
 
   size_t size() const { return refs.size(); }
-  // n uninitialised triangles: the caller writes every one of the arrays held.
+  // n triangles, contents unspecified (arrays of that size already held are
+  // kept, BuildArray::reset): the caller writes every one of the arrays held.
   void allocate(size_t n, TriangleArrays which = TriangleArrays::kBoth) {
-    verts = which != TriangleArrays::kEdges ? BuildArray<TriangleVerts>(n)
-                                            : BuildArray<TriangleVerts>();
-    edges = which != TriangleArrays::kVerts ? BuildArray<TriangleEdges>(n)
-                                            : BuildArray<TriangleEdges>();
-    refs = BuildArray<PrimRef>(n);
+    verts.reset(which != TriangleArrays::kEdges ? n : 0);
+    edges.reset(which != TriangleArrays::kVerts ? n : 0);
+    refs.reset(n);
   }
   // Whether the arrays `which` names are held for every triangle.
   bool holds(TriangleArrays which) const {

@@ -1,7 +1,7 @@
 // make_prim_info: one box and one centroid (the box centre, as in Wald 2007
 // and Embree) per valid triangle, in (geomID, primID) order. Large meshes are
-// processed in parallel over fixed-size chunks (count, prefix sum, fill), so
-// the result never depends on the thread count.
+// processed in parallel over fixed-size chunks (fill, then close the gaps
+// invalid triangles left), so the result never depends on the thread count.
 #include "bvh/prim_info.h"
 #include "bvh/huge_buffer.h"
 
@@ -30,43 +30,31 @@ AABB triangle_box(const TriangleMesh& m, size_t i) {
 
 PrimInfo make_prim_info(const Scene& scene) {
   PrimInfo info;
-  // Pass 1: valid triangles per chunk of every mesh.
   struct Chunk {
     uint32_t geom;
-    size_t begin, end;
+    size_t begin, end;  // triangles of mesh `geom`
+    size_t slot;        // where the chunk's first triangle goes if all are valid
     size_t valid = 0;
-    size_t offset = 0;
   };
   std::vector<Chunk> chunks;
+  size_t all = 0;
   for (size_t g = 0; g < scene.meshes.size(); ++g) {
     const size_t n = scene.meshes[g].triangle_count();
     for (size_t b = 0; b < n; b += kChunk)
-      chunks.push_back({static_cast<uint32_t>(g), b, std::min(n, b + kChunk)});
+      chunks.push_back({static_cast<uint32_t>(g), b, std::min(n, b + kChunk), all + b});
+    all += n;
   }
+  // Uninitialised: the fill writes every element kept (first touch in parallel).
+  info.bounds = BuildArray<AABB>(all);
+  info.centroids = BuildArray<Vec3f>(all);
+  info.refs = BuildArray<PrimRef>(all);
+  // One pass: each chunk writes its valid triangles from its slot on, and
+  // reduces its bounds (min/max: exact in any order).
+  std::vector<AABB> chunk_bounds(chunks.size()), chunk_cbounds(chunks.size());
   tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t c) {
     Chunk& ch = chunks[c];
     const TriangleMesh& m = scene.meshes[ch.geom];
-    size_t v = 0;
-    for (size_t i = ch.begin; i < ch.end; ++i) v += m.triangle_valid(i) ? 1 : 0;
-    ch.valid = v;
-  });
-  size_t total = 0, all = 0;
-  for (Chunk& ch : chunks) {
-    ch.offset = total;
-    total += ch.valid;
-    all += ch.end - ch.begin;
-  }
-  info.invalid = all - total;
-  // Uninitialised: pass 2 writes every element (first touch in parallel).
-  info.bounds = BuildArray<AABB>(total);
-  info.centroids = BuildArray<Vec3f>(total);
-  info.refs = BuildArray<PrimRef>(total);
-  // Pass 2: fill, and reduce the bounds per chunk (min/max: exact in any order).
-  std::vector<AABB> chunk_bounds(chunks.size()), chunk_cbounds(chunks.size());
-  tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t c) {
-    const Chunk& ch = chunks[c];
-    const TriangleMesh& m = scene.meshes[ch.geom];
-    size_t w = ch.offset;
+    size_t w = ch.slot;
     AABB sb, cb;
     for (size_t i = ch.begin; i < ch.end; ++i) {
       if (!m.triangle_valid(i)) continue;
@@ -79,9 +67,28 @@ PrimInfo make_prim_info(const Scene& scene) {
       cb.extend(centre);
       ++w;
     }
+    ch.valid = w - ch.slot;
     chunk_bounds[c] = sb;
     chunk_cbounds[c] = cb;
   });
+  // Invalid triangles (rare) leave gaps: close them, chunk by chunk in order
+  // (a chunk only moves down, onto slots already emptied).
+  size_t total = 0;
+  for (const Chunk& ch : chunks) {
+    if (total != ch.slot) {
+      const auto move_down = [&](auto& a) {
+        std::copy(a.begin() + ch.slot, a.begin() + ch.slot + ch.valid, a.begin() + total);
+      };
+      move_down(info.bounds);
+      move_down(info.centroids);
+      move_down(info.refs);
+    }
+    total += ch.valid;
+  }
+  info.invalid = all - total;
+  info.bounds.shrink(total);
+  info.centroids.shrink(total);
+  info.refs.shrink(total);
   for (size_t c = 0; c < chunks.size(); ++c) {
     info.scene_bounds.extend(chunk_bounds[c]);
     info.centroid_bounds.extend(chunk_cbounds[c]);

@@ -70,7 +70,12 @@ RefitIndex make_refit_index(const FlatBvh& bvh, const Scene& scene) {
 
 RefitIndex make_refit_index(const LeafTriangles& triangles, const Scene& scene) {
   RefitIndex index;
-  index.triangles.resize(triangles.size());
+  make_refit_index(triangles, scene, index);
+  return index;
+}
+
+void make_refit_index(const LeafTriangles& triangles, const Scene& scene, RefitIndex& index) {
+  index.triangles.reset(triangles.size());
   tbb::parallel_for(tbb::blocked_range<size_t>(0, index.triangles.size(), 16384),
                     [&](const tbb::blocked_range<size_t>& range) {
                       for (size_t j = range.begin(); j != range.end(); ++j) {
@@ -78,7 +83,6 @@ RefitIndex make_refit_index(const LeafTriangles& triangles, const Scene& scene) 
                         index.triangles[j] = scene.meshes[r.geom_id].triangles[r.prim_id];
                       }
                     });
-  return index;
 }
 
 RefitResult refit(FlatBvh& bvh, const Scene& scene, RefitTriangles triangles,

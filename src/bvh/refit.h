@@ -5,8 +5,7 @@
 // the top of the tree, sequential below), deterministic, allocation-free.
 #pragma once
 
-#include <vector>
-
+#include "bvh/build_array.h"
 #include "bvh/flat_bvh.h"
 #include "core/scene.h"
 
@@ -31,10 +30,12 @@ using RefitTriangles = TriangleArrays;
 // reads them sequentially instead of chasing refs into the meshes' index
 // arrays in random order (measured ~2x faster on a 1M-triangle torus).
 struct RefitIndex {
-  std::vector<Vec3u> triangles;  // one per leaf-order triangle
+  BuildArray<Vec3u> triangles;  // one per leaf-order triangle
 };
 RefitIndex make_refit_index(const FlatBvh& bvh, const Scene& scene);
 RefitIndex make_refit_index(const LeafTriangles& triangles, const Scene& scene);
+// The same into `out`, its array reused where it has the size already.
+void make_refit_index(const LeafTriangles& triangles, const Scene& scene, RefitIndex& out);
 
 // `bvh` must have been built (flatten) over `scene` with the same meshes and
 // triangle indices; only positions may differ. `index`, when given, must be

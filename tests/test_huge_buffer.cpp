@@ -1,0 +1,86 @@
+// Tests of the large build arrays: BuildArray::reset / shrink keep storage,
+// and the buffer cache behind make_huge_buffer caches only while a
+// HugeBufferRetention lives, hands a cached buffer to a request of a close
+// size only, and empties when the last retention goes.
+#include <gtest/gtest.h>
+
+#include <cstdint>
+
+#include "bvh/build_array.h"
+#include "bvh/huge_buffer.h"
+
+namespace hprt::test {
+namespace {
+
+constexpr size_t kMiB = size_t{1} << 20;
+
+TEST(BuildArray, ResetKeepsTheStorageOfTheSameSizeOnly) {
+  BuildArray<uint32_t> a(1000);
+  const uint32_t* p = a.data();
+  a[7] = 42;
+  a.reset(1000);
+  EXPECT_EQ(a.data(), p);
+  EXPECT_EQ(a[7], 42u);
+  a.reset(2000);
+  EXPECT_EQ(a.size(), 2000u);
+  a.reset(0);
+  EXPECT_TRUE(a.empty());
+  EXPECT_EQ(a.data(), nullptr);
+}
+
+TEST(BuildArray, ShrinkKeepsThePrefix) {
+  BuildArray<int> a(10);
+  for (int i = 0; i < 10; ++i) a[size_t(i)] = i;
+  a.shrink(4);
+  ASSERT_EQ(a.size(), 4u);
+  EXPECT_EQ(a[3], 3);
+  a.shrink(8);  // never grows
+  EXPECT_EQ(a.size(), 4u);
+}
+
+TEST(HugeBufferCache, FreesWithoutARetention) {
+  ASSERT_EQ(huge_buffer_cache_bytes(), 0u);
+  { auto b = make_huge_buffer<uint8_t>(8 * kMiB); }
+  EXPECT_EQ(huge_buffer_cache_bytes(), 0u);
+}
+
+TEST(HugeBufferCache, ReusesACloseSizeWhileRetainedAndEmptiesAfter) {
+  {
+    HugeBufferRetention retain;
+    uint8_t* first = nullptr;
+    {
+      auto b = make_huge_buffer<uint8_t>(9 * kMiB);
+      first = b.get();
+      EXPECT_EQ(reinterpret_cast<uintptr_t>(first) % kHugePage, 0u);
+    }
+    EXPECT_EQ(huge_buffer_cache_bytes(), 10 * kMiB);  // rounded up to 2 MiB pages
+    {
+      // Much smaller: not handed the cached buffer (it would waste most of it).
+      auto small = make_huge_buffer<uint8_t>(3 * kMiB);
+      EXPECT_NE(small.get(), first);
+      EXPECT_EQ(huge_buffer_cache_bytes(), 10 * kMiB);
+    }
+    EXPECT_EQ(huge_buffer_cache_bytes(), 14 * kMiB);
+    {
+      // 8 MiB after rounding: the 10 MiB one fits without wasting a quarter.
+      auto again = make_huge_buffer<uint32_t>(7 * kMiB / 4 + 1);
+      EXPECT_EQ(reinterpret_cast<uint8_t*>(again.get()), first);
+      EXPECT_EQ(huge_buffer_cache_bytes(), 4 * kMiB);
+      // Larger than anything cached: a fresh one.
+      auto big = make_huge_buffer<uint8_t>(11 * kMiB);
+      EXPECT_NE(big.get(), first);
+    }
+    { HugeBufferRetention nested; }
+    EXPECT_GT(huge_buffer_cache_bytes(), 0u);  // an outer retention still lives
+  }
+  EXPECT_EQ(huge_buffer_cache_bytes(), 0u);
+}
+
+TEST(HugeBufferCache, SmallBuffersAreNeverCached) {
+  HugeBufferRetention retain;
+  { auto b = make_huge_buffer<uint8_t>(kHugePage - 1); }
+  EXPECT_EQ(huge_buffer_cache_bytes(), 0u);
+}
+
+}  // namespace
+}  // namespace hprt::test
