@@ -8,6 +8,7 @@
 #include <limits>
 
 #include "backends/intersector.h"
+#include "bvh/huge_buffer.h"
 #include "bvh_trace_helpers.h"
 #include "core/parallel.h"
 
@@ -217,6 +218,48 @@ TEST(BvhBackend, RebuildingUpdateEqualsAFreshBuild) {
       }
       return 0;
     });
+  }
+}
+
+// The freed build arrays are cached (for the next rebuild) only while a
+// backend that was updated, or built over an animated scene, lives; rebuilds
+// over reused arrays answer as a fresh build.
+TEST(BvhBackend, KeepsBuildArraysOnlyForUpdatesAndRebuildsOverThemExactly) {
+  const Scene scene = scene_of({test::random_soup(120000, 4, 0.01f)});
+  Scene moved = scene;
+  for (Vec3f& p : moved.meshes[0].positions) p = p + Vec3f{0.1f * std::sin(7 * p.y), 0.0f, 0.0f};
+  const auto rays = test::random_rays(scene.bounds(), 2000, 35);
+  ASSERT_EQ(huge_buffer_cache_bytes(), 0u);
+  for (BuilderKind builder : {BuilderKind::kParallel, BuilderKind::kMorton}) {
+    BackendOptions o;
+    o.build.builder = builder;
+    o.update = UpdateStrategy::kRebuild;
+    {
+      auto isect = make_intersector("bvh", o);
+      isect->build(scene);
+      EXPECT_EQ(huge_buffer_cache_bytes(), 0u) << "a static build keeps nothing";
+      isect->update(moved);
+      isect->update(scene);  // rebuilt over the arrays of the first update
+      EXPECT_GT(huge_buffer_cache_bytes(), 0u);
+      auto fresh = make_intersector("bvh", o);
+      fresh->build(scene);
+      const Answers a = ask(*isect, rays), b = ask(*fresh, rays);
+      EXPECT_EQ(a.info.stats.tree_hash, b.info.stats.tree_hash) << to_string(builder);
+      for (size_t i = 0; i < rays.size(); ++i) {
+        EXPECT_EQ(a.hits[i].t, b.hits[i].t) << i;
+        EXPECT_EQ(a.hits[i].prim_id, b.hits[i].prim_id) << i;
+        EXPECT_EQ(a.occluded[i], b.occluded[i]) << i;
+      }
+    }
+    EXPECT_EQ(huge_buffer_cache_bytes(), 0u) << "emptied with the last backend that kept it";
+    Scene animated = scene;
+    animated.animation.deformers.push_back(DeformerSpec{});
+    {
+      auto isect = make_intersector("bvh", o);
+      isect->build(animated);
+      EXPECT_GT(huge_buffer_cache_bytes(), 0u) << "an animated scene's build keeps its arrays";
+    }
+    EXPECT_EQ(huge_buffer_cache_bytes(), 0u);
   }
 }
 

@@ -7,6 +7,7 @@
 // same hits as the binary layout of the same build.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 
 #include "bvh/flatten_wide.h"
@@ -41,6 +42,41 @@ void check_layout(const test::BuiltBvh& b) {
   if (binary_inner >= 64) {
     EXPECT_LT(double(w.nodes.size()), double(binary_inner) * (N == 8 ? 0.25 : 0.5));
   }
+  // Free slots only where every leaf of the node holds one triangle; the
+  // binary leaves split over slots are recorded as contiguous ranges of leaf
+  // slots, so the wide leaf slots less those splits are the binary leaves.
+  size_t leaf_slots = 0, split_parts = 0;
+  for (size_t w_i = 0; w_i < w.nodes.size(); ++w_i) {
+    const WideNode<N>& n = w.nodes[w_i];
+    const CollapsedInner<N>& c = w.collapsed[w_i];
+    int used = 0;
+    uint32_t largest_leaf = 0;
+    for (int i = 0; i < N; ++i) {
+      if (n.child[i].empty()) continue;
+      ++used;
+      if (n.child[i].is_leaf()) {
+        ++leaf_slots;
+        largest_leaf = std::max(largest_leaf, n.child[i].count());
+      }
+    }
+    if (used < N) {
+      EXPECT_LE(largest_leaf, 1u) << "node " << w_i;
+    }
+    for (int r = 0; r < c.split_leaves; ++r) {
+      ASSERT_GE(c.leaf_end[r] - c.leaf_begin[r], 2);
+      for (int i = c.leaf_begin[r]; i < c.leaf_end[r]; ++i) {
+        ASSERT_TRUE(n.child[i].is_leaf());
+        if (i > c.leaf_begin[r]) {
+          EXPECT_EQ(n.child[i].index(), n.child[i - 1].index() + n.child[i - 1].count());
+        }
+      }
+      split_parts += size_t(c.leaf_end[r] - c.leaf_begin[r]) - 1;
+    }
+  }
+  const size_t binary_leaves = b.tree.nodes.size() - binary_inner;
+  if (w.root.is_inner()) {
+    EXPECT_EQ(leaf_slots - split_parts, binary_leaves);
+  }
   const double sah = compute_tree_stats(b.tree, b.prims).sah_cost;
   EXPECT_NEAR(wide_sah_cost(w), sah, 1e-12 * sah);
   EXPECT_EQ(w.memory_bytes(), w.nodes.size() * sizeof(WideNode<N>) + w.triangles.memory_bytes());
@@ -58,12 +94,14 @@ void check_layout(const test::BuiltBvh& b) {
     EXPECT_EQ(nodes_only.collapsed[k].count, w.collapsed[k].count);
     EXPECT_EQ(std::memcmp(nodes_only.collapsed[k].begin, w.collapsed[k].begin, N - 2), 0);
     EXPECT_EQ(std::memcmp(nodes_only.collapsed[k].end, w.collapsed[k].end, N - 2), 0);
+    EXPECT_EQ(nodes_only.collapsed[k].split_leaves, w.collapsed[k].split_leaves);
   }
 }
 
 TEST(FlattenWide, SlotsExactAndSahKeptForEveryBuilderAndLeafSize) {
   const TriangleMesh soup = test::random_soup(3000, 21, 0.05f);
-  for (BuilderKind builder : {BuilderKind::kSweep, BuilderKind::kBinned, BuilderKind::kParallel})
+  for (BuilderKind builder :
+       {BuilderKind::kSweep, BuilderKind::kBinned, BuilderKind::kParallel, BuilderKind::kMorton})
     for (int leaf : {1, 2, 4, 8}) {
       SCOPED_TRACE(std::string(to_string(builder)) + " leaf " + std::to_string(leaf));
       BuildOptions o;

@@ -19,6 +19,7 @@ namespace hprt {
 // 2 MiB or more are 2 MiB aligned and advised as transparent huge pages, like
 // the triangle arrays (BuildArray): the bottom levels of a large tree are read
 // at random, and with 4 KiB pages nearly every such read also missed the TLB.
+// Those come from the buffer cache (huge_buffer.h), reused across rebuilds.
 template <typename T>
 struct CacheAlignedAllocator {
   using value_type = T;
@@ -29,16 +30,13 @@ struct CacheAlignedAllocator {
   T* allocate(std::size_t n) {
     const std::size_t bytes = n * sizeof(T);
     if (bytes < kHugePage) return static_cast<T*>(::operator new(bytes, std::align_val_t(kAlign)));
-    void* p = std::aligned_alloc(kHugePage, (bytes + kHugePage - 1) / kHugePage * kHugePage);
-    if (!p) throw std::bad_alloc();
-    advise_huge_pages(p, bytes);
-    return static_cast<T*>(p);
+    return static_cast<T*>(acquire_huge_buffer(bytes));
   }
   void deallocate(T* p, std::size_t n) noexcept {
     if (n * sizeof(T) < kHugePage)
       ::operator delete(p, std::align_val_t(kAlign));
     else
-      std::free(p);
+      release_huge_buffer(p);
   }
   template <typename U>
   bool operator==(const CacheAlignedAllocator<U>&) const noexcept {

@@ -38,12 +38,12 @@ inline void advise_huge_pages(void* p, size_t bytes) {
 }
 
 // A 2 MiB aligned buffer of at least `bytes` (>= kHugePage): a cached one of
-// a close capacity, else a fresh one, huge-page advised. `capacity` is set to
-// its size, which release_huge_buffer must be given back.
-void* acquire_huge_buffer(size_t bytes, size_t& capacity);
+// a close capacity, else a fresh one, huge-page advised. Give it back with
+// release_huge_buffer.
+void* acquire_huge_buffer(size_t bytes);
 // Caches the buffer while a HugeBufferRetention lives (the oldest cached ones
 // are freed past the cache's bounds), else frees it.
-void release_huge_buffer(void* p, size_t capacity);
+void release_huge_buffer(void* p) noexcept;
 // Bytes held by the cache now.
 size_t huge_buffer_cache_bytes();
 
@@ -57,12 +57,12 @@ class HugeBufferRetention {
   HugeBufferRetention& operator=(const HugeBufferRetention&) = delete;
 };
 
-// capacity 0: a small buffer from aligned_alloc.
+// large: from acquire_huge_buffer, else from aligned_alloc.
 struct HugeDeleter {
-  size_t capacity = 0;
+  bool large = false;
   void operator()(void* p) const {
-    if (capacity)
-      release_huge_buffer(p, capacity);
+    if (large)
+      release_huge_buffer(p);
     else
       std::free(p);
   }
@@ -75,11 +75,8 @@ HugeBuffer<T> make_huge_buffer(size_t n) {
   static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
   static_assert(alignof(T) <= kHugePage);
   const size_t bytes = n * sizeof(T);
-  if (bytes >= kHugePage) {
-    size_t capacity = 0;
-    void* p = acquire_huge_buffer(bytes, capacity);
-    return HugeBuffer<T>(static_cast<T*>(p), HugeDeleter{capacity});
-  }
+  if (bytes >= kHugePage)
+    return HugeBuffer<T>(static_cast<T*>(acquire_huge_buffer(bytes)), HugeDeleter{true});
   const size_t align = alignof(T) < 16 ? 16 : alignof(T);
   void* p = std::aligned_alloc(align, (bytes + align - 1) / align * align);
   if (!p) throw std::bad_alloc();

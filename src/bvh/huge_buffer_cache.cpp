@@ -1,12 +1,13 @@
 // The cache behind make_huge_buffer: freed large buffers, oldest first, kept
 // up to kMaxBuffers and kMaxBytes while a HugeBufferRetention lives. A request
 // takes the smallest cached buffer that fits it without wasting more than a
-// quarter of it (the arrays of successive rebuilds differ by a few per cent:
+// third of it (the arrays of successive rebuilds differ by a few per cent:
 // node counts change as the mesh deforms), else a fresh one. Few, large
-// allocations: one mutex.
+// allocations: one mutex, and a map of the buffers handed out to their sizes.
 #include <cstdlib>
 #include <mutex>
 #include <new>
+#include <unordered_map>
 #include <vector>
 
 #include "bvh/huge_buffer.h"
@@ -24,9 +25,12 @@ struct Cached {
 
 struct Cache {
   std::mutex mutex;
-  std::vector<Cached> buffers;  // oldest first
+  std::vector<Cached> buffers;            // oldest first
+  std::unordered_map<void*, size_t> out;  // handed out: capacity
   size_t bytes = 0;
   int retainers = 0;
+
+  Cache() { buffers.reserve(kMaxBuffers + 1); }  // release never allocates
 
   void free_all() {
     for (const Cached& c : buffers) std::free(c.p);
@@ -43,37 +47,50 @@ Cache& cache() {
 
 }  // namespace
 
-void* acquire_huge_buffer(size_t bytes, size_t& capacity) {
+void* acquire_huge_buffer(size_t bytes) {
   const size_t need = (bytes + kHugePage - 1) / kHugePage * kHugePage;
+  Cache& c = cache();
   {
-    Cache& c = cache();
     const std::lock_guard lock(c.mutex);
     auto best = c.buffers.end();
     for (auto it = c.buffers.begin(); it != c.buffers.end(); ++it)
-      if (it->capacity >= need && it->capacity - need <= it->capacity / 4 &&
+      if (it->capacity >= need && it->capacity - need <= it->capacity / 3 &&
           (best == c.buffers.end() || it->capacity < best->capacity))
         best = it;
     if (best != c.buffers.end()) {
-      void* p = best->p;
-      capacity = best->capacity;
-      c.bytes -= capacity;
+      const Cached got = *best;
+      c.bytes -= got.capacity;
       c.buffers.erase(best);
-      return p;
+      c.out.emplace(got.p, got.capacity);
+      return got.p;
     }
   }
-  void* p = std::aligned_alloc(kHugePage, need);
+  // An eighth more than asked, in address space only (pages never touched
+  // are never faulted in): arrays that grow a little from one rebuild to the
+  // next (an exploding mesh's node count) still fit the cached buffer.
+  const size_t capacity = (need + need / 8 + kHugePage - 1) / kHugePage * kHugePage;
+  void* p = std::aligned_alloc(kHugePage, capacity);
   if (!p) throw std::bad_alloc();
-  advise_huge_pages(p, need);
-  capacity = need;
+  advise_huge_pages(p, capacity);
+  try {
+    const std::lock_guard lock(c.mutex);
+    c.out.emplace(p, capacity);
+  } catch (...) {
+    std::free(p);
+    throw;
+  }
   return p;
 }
 
-void release_huge_buffer(void* p, size_t capacity) {
+void release_huge_buffer(void* p) noexcept {
   if (!p) return;
   Cache& c = cache();
   {
     const std::lock_guard lock(c.mutex);
-    if (c.retainers > 0 && capacity <= kMaxBytes) {
+    const auto it = c.out.find(p);
+    const size_t capacity = it == c.out.end() ? 0 : it->second;
+    if (it != c.out.end()) c.out.erase(it);
+    if (c.retainers > 0 && capacity > 0 && capacity <= kMaxBytes) {
       c.buffers.push_back({p, capacity});
       c.bytes += capacity;
       size_t drop = 0;

@@ -52,6 +52,12 @@ Partial visit(Bvh& bvh, const Scene* scene, const Vec3u* tri_index, uint32_t ind
     for (int i = 0; i < N; ++i) one_slot(i);
   }
   Partial p;
+  const CollapsedInner<N>& col = bvh.collapsed[index];
+  // A binary leaf split over slots costs as that leaf: its parts' own leaf
+  // costs are left out of the sum and the union's added below.
+  unsigned leaf_part = 0;
+  for (int r = 0; r < col.split_leaves; ++r)
+    for (int i = col.leaf_begin[r]; i < col.leaf_end[r]; ++i) leaf_part |= 1u << i;
   // Slot boxes as vectors for the unions below (min / max are exact, so the
   // unions are AABB::extend's bits).
   __m128 lo[N], hi[N];
@@ -62,19 +68,27 @@ Partial visit(Bvh& bvh, const Scene* scene, const Vec3u* tri_index, uint32_t ind
     lo[i] = refit_detail::load3(slot[i].box.min);
     hi[i] = refit_detail::load3(slot[i].box.max);
     all.extend(lo[i], hi[i]);
-    p.area_cost += slot[i].area_cost;
+    if (!(leaf_part >> i & 1u)) p.area_cost += slot[i].area_cost;
     p.unit_cost += slot[i].unit_cost;
     p.valid = p.valid && slot[i].valid;
   }
   p.box = all.aabb();
   p.area_cost += double(p.box.half_area());
   p.unit_cost += 1.0;
-  const CollapsedInner<N>& col = bvh.collapsed[index];
   for (int r = 0; r < col.count; ++r) {
     VecBox b;  // collapsed ranges hold no empty slot
     for (int i = col.begin[r]; i < col.end[r]; ++i) b.extend(lo[i], hi[i]);
     p.area_cost += double(b.aabb().half_area());
     p.unit_cost += 1.0;
+  }
+  for (int r = 0; r < col.split_leaves; ++r) {
+    VecBox b;
+    uint32_t count = 0;
+    for (int i = col.leaf_begin[r]; i < col.leaf_end[r]; ++i) {
+      b.extend(lo[i], hi[i]);
+      count += node.child[i].count();
+    }
+    p.area_cost += double(b.aabb().half_area()) * count;
   }
   return p;
 }

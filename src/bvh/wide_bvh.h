@@ -17,12 +17,18 @@ namespace hprt {
 
 // The binary inner nodes a wide node stands for besides its own root: each is
 // the union of a contiguous range of its slots [begin, end) (collapsing keeps
-// every opened node's children adjacent). At most N - 2 of them.
+// every opened node's children adjacent). At most N - 2 of them. And the
+// binary leaves split over several slots (slots left free hold parts of the
+// node's largest leaves, flatten_wide.cpp): slots [leaf_begin, leaf_end),
+// at least 2 each, so at most N / 2.
 template <int N>
 struct CollapsedInner {
   uint8_t count = 0;
   uint8_t begin[N - 2] = {};
   uint8_t end[N - 2] = {};
+  uint8_t split_leaves = 0;
+  uint8_t leaf_begin[N / 2] = {};
+  uint8_t leaf_end[N / 2] = {};
 };
 
 template <int N>
@@ -30,7 +36,7 @@ struct WideBvh {
   static constexpr int kWidth = N;
 
   std::vector<WideNode<N>, CacheAlignedAllocator<WideNode<N>>> nodes;
-  std::vector<CollapsedInner<N>> collapsed;  // one per node
+  std::vector<CollapsedInner<N>, CacheAlignedAllocator<CollapsedInner<N>>> collapsed;  // per node
   NodeRef root;  // nodes[0], or a leaf when the whole tree is one leaf; empty when no triangle
   LeafTriangles triangles;
 
