@@ -138,12 +138,7 @@ class BvhIntersector final : public Intersector {
     info_.has_tree_stats = true;
   }
 
-  // An animated scene will be updated: its build's arrays are kept for the
-  // first rebuild already (huge_buffer.h).
-  void build(const Scene& scene) override {
-    if (scene.animation.animated() && !retain_buffers_) retain_buffers_.emplace();
-    info_.build_ms = rebuild(scene, false);
-  }
+  void build(const Scene& scene) override { info_.build_ms = rebuild(scene, false); }
 
   // The caller moved vertices (same meshes, triangle indices and counts).
   // Whatever the strategy, a change of the set of valid triangles (one became
@@ -155,9 +150,8 @@ class BvhIntersector final : public Intersector {
   // A refit allocates nothing: it rewrites the existing nodes and triangles.
   // build_ms: the whole update (checks, refit, rebuild); a rebuild here
   // computes the tree statistics beside the flattening, so they count where
-  // they outlast it (build() leaves them out). From the first update on (or
-  // the build, for an animated scene), the backend keeps the freed build
-  // arrays for the next rebuild (huge_buffer.h).
+  // they outlast it (build() leaves them out). From the first update on, the
+  // backend keeps the freed build arrays for the next rebuild (huge_buffer.h).
   void update(const Scene& scene) override {
     const auto start = std::chrono::steady_clock::now();
     if (!retain_buffers_) retain_buffers_.emplace();
