@@ -57,7 +57,7 @@ if [[ $do_tsan == 1 ]]; then
   # > 5 min (20k-triangle sphere, 3 updates) without a report; its parallel
   # refit/rebuild paths are test_refit's DeterministicForAnyThreadCount.
   tests=()
-  for pattern in test_builder_parallel test_builder_morton test_tree_stats test_bvh_backend \
+  for pattern in test_builder_parallel test_builder_morton test_tree_stats test_bvh_backend test_huge_buffer \
       'test_refit*' test_whitted test_render_golden test_concurrency test_signal; do
     for f in "$root"/tests/$pattern.cpp; do
       [[ -e "$f" ]] && tests+=("$(basename "$f" .cpp)")
@@ -77,7 +77,8 @@ if [[ $do_tsan == 1 ]]; then
   # > 150 s). Per suite, the cases below still run
   # every parallel path (parallel binning/partition/stitching, the Morton
   # radix sort and subtree tasks, tree statistics, parallel refit,
-  # tile scheduler, concurrent callers); the rest run in the
+  # tile scheduler, concurrent callers, the build-buffer cache's mutex
+  # under std::threads); the rest run in the
   # Release and ASan passes.
   declare -A filter=(
     [test_builder_parallel]="BuilderParallel.*:-*EqualsBinnedForAnyThreadCount:*SmallCutoffStitchesSubtreesExactly:*EqualsBinnedForEveryBinCount"

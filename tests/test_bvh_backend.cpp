@@ -225,7 +225,9 @@ TEST(BvhBackend, RebuildingUpdateEqualsAFreshBuild) {
 // backend that was updated lives; rebuilds over reused arrays answer as a
 // fresh build.
 TEST(BvhBackend, KeepsBuildArraysOnlyForUpdatesAndRebuildsOverThemExactly) {
-  const Scene scene = scene_of({test::random_soup(120000, 4, 0.01f)});
+  // Large enough for arrays of at least 2 MiB (the prim boxes: 2.4 MB), the
+  // sizes the cache takes.
+  const Scene scene = scene_of({test::random_soup(100000, 4, 0.01f)});
   Scene moved = scene;
   for (Vec3f& p : moved.meshes[0].positions) p = p + Vec3f{0.1f * std::sin(7 * p.y), 0.0f, 0.0f};
   const auto rays = test::random_rays(scene.bounds(), 2000, 35);
