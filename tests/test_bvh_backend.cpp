@@ -232,29 +232,32 @@ TEST(BvhBackend, KeepsBuildArraysOnlyForUpdatesAndRebuildsOverThemExactly) {
   for (Vec3f& p : moved.meshes[0].positions) p = p + Vec3f{0.1f * std::sin(7 * p.y), 0.0f, 0.0f};
   const auto rays = test::random_rays(scene.bounds(), 2000, 35);
   ASSERT_EQ(huge_buffer_cache_bytes(), 0u);
-  for (BuilderKind builder : {BuilderKind::kParallel, BuilderKind::kMorton}) {
-    BackendOptions o;
-    o.build.builder = builder;
-    o.update = UpdateStrategy::kRebuild;
-    {
-      auto isect = make_intersector("bvh", o);
-      isect->build(scene);
-      EXPECT_EQ(huge_buffer_cache_bytes(), 0u) << "a static build keeps nothing";
-      isect->update(moved);
-      isect->update(scene);  // rebuilt over the arrays of the first update
-      EXPECT_GT(huge_buffer_cache_bytes(), 0u);
-      auto fresh = make_intersector("bvh", o);
-      fresh->build(scene);
-      const Answers a = ask(*isect, rays), b = ask(*fresh, rays);
-      EXPECT_EQ(a.info.stats.tree_hash, b.info.stats.tree_hash) << to_string(builder);
-      for (size_t i = 0; i < rays.size(); ++i) {
-        EXPECT_EQ(a.hits[i].t, b.hits[i].t) << i;
-        EXPECT_EQ(a.hits[i].prim_id, b.hits[i].prim_id) << i;
-        EXPECT_EQ(a.occluded[i], b.occluded[i]) << i;
+  for (BuilderKind builder : {BuilderKind::kParallel, BuilderKind::kMorton})
+    for (BvhLayout layout : {BvhLayout::kBvh2, BvhLayout::kBvh4, BvhLayout::kBvh8}) {
+      SCOPED_TRACE(std::string(to_string(builder)) + " " + std::string(to_string(layout)));
+      BackendOptions o;
+      o.build.builder = builder;
+      o.layout = layout;
+      o.update = UpdateStrategy::kRebuild;
+      {
+        auto isect = make_intersector("bvh", o);
+        isect->build(scene);
+        EXPECT_EQ(huge_buffer_cache_bytes(), 0u) << "a static build keeps nothing";
+        isect->update(moved);
+        isect->update(scene);  // rebuilt over the arrays of the first update
+        EXPECT_GT(huge_buffer_cache_bytes(), 0u);
+        auto fresh = make_intersector("bvh", o);
+        fresh->build(scene);
+        const Answers a = ask(*isect, rays), b = ask(*fresh, rays);
+        EXPECT_EQ(a.info.stats.tree_hash, b.info.stats.tree_hash) << to_string(builder);
+        for (size_t i = 0; i < rays.size(); ++i) {
+          EXPECT_EQ(a.hits[i].t, b.hits[i].t) << i;
+          EXPECT_EQ(a.hits[i].prim_id, b.hits[i].prim_id) << i;
+          EXPECT_EQ(a.occluded[i], b.occluded[i]) << i;
+        }
       }
+      EXPECT_EQ(huge_buffer_cache_bytes(), 0u) << "emptied with the last backend that kept it";
     }
-    EXPECT_EQ(huge_buffer_cache_bytes(), 0u) << "emptied with the last backend that kept it";
-  }
 }
 
 TEST(BvhBackend, InfoReportsTheBuild) {

@@ -54,7 +54,7 @@ TEST(PrimInfo, MatchesASequentialReferenceAcrossChunks) {
   Scene s;
   TriangleMesh a = random_soup(60000, 3);
   for (size_t i = 0; i < a.triangles.size(); i += 61) a.triangles[i][2] = a.triangles[i][0];
-  for (size_t i = 20000; i < 40000; ++i) a.triangles[i][1] = a.triangles[i][0];
+  for (size_t i = 16384; i < 40000; ++i) a.triangles[i][1] = a.triangles[i][0];  // chunk 1 whole
   TriangleMesh dead = random_soup(5, 4);
   for (auto& t : dead.triangles) t[1] = t[0];
   s.add_mesh(a);

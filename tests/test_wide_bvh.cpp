@@ -95,6 +95,8 @@ void check_layout(const test::BuiltBvh& b) {
     EXPECT_EQ(std::memcmp(nodes_only.collapsed[k].begin, w.collapsed[k].begin, N - 2), 0);
     EXPECT_EQ(std::memcmp(nodes_only.collapsed[k].end, w.collapsed[k].end, N - 2), 0);
     EXPECT_EQ(nodes_only.collapsed[k].split_leaves, w.collapsed[k].split_leaves);
+    EXPECT_EQ(std::memcmp(nodes_only.collapsed[k].leaf_begin, w.collapsed[k].leaf_begin, N / 2), 0);
+    EXPECT_EQ(std::memcmp(nodes_only.collapsed[k].leaf_end, w.collapsed[k].leaf_end, N / 2), 0);
   }
 }
 

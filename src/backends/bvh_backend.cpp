@@ -217,11 +217,14 @@ class BvhIntersector final : public Intersector {
     // rebuild of a deforming mesh faults in no fresh pages for them.
     LeafTriangles triangles =
         with_layout(*this, [](auto& bvh) { return std::move(bvh.triangles); });
-    // Only the layout in use is kept; the others are left empty.
+    // Only the layout in use is kept; the others are left empty. Until the
+    // new one is made, no layout is recorded: should making it throw, the
+    // next update() finds the layout changed and rebuilds, instead of
+    // refitting an empty tree.
+    layout_.clear();
     bvh2_ = FlatBvh{};
     bvh4_ = WideBvh<4>{};
     bvh8_ = WideBvh<8>{};
-    record_layout(scene, prims);
     const auto make_layout = [&] {
       with_layout(*this, [&](auto& bvh) {
         // The node pass beside the triangle pass and the refit index.
@@ -234,6 +237,7 @@ class BvhIntersector final : public Intersector {
         rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
         info_.memory_bytes = bvh.memory_bytes();
       });
+      record_layout(scene, prims);
     };
     TreeStats stats;
     double ms = 0.0;

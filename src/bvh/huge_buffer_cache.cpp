@@ -12,8 +12,37 @@
 
 #include "bvh/huge_buffer.h"
 
+#if defined(__SANITIZE_ADDRESS__)
+#include <sanitizer/asan_interface.h>
+#endif
+
 namespace hprt {
 namespace {
+
+// Under ASan a cached buffer is poisoned until it is handed out again, so a
+// use after release is caught as it would be after free().
+void poison(void* p, size_t bytes) {
+#if defined(__SANITIZE_ADDRESS__)
+  ASAN_POISON_MEMORY_REGION(p, bytes);
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+void unpoison(void* p, size_t bytes) {
+#if defined(__SANITIZE_ADDRESS__)
+  ASAN_UNPOISON_MEMORY_REGION(p, bytes);
+#else
+  (void)p;
+  (void)bytes;
+#endif
+}
+
+// Whether a buffer of `capacity` may serve a request of `need` (both whole
+// huge pages): it fits, wasting at most a third of it.
+bool serves(size_t capacity, size_t need) {
+  return capacity >= need && capacity - need <= capacity / 3;
+}
 
 constexpr size_t kMaxBuffers = 32;
 constexpr size_t kMaxBytes = size_t{2} << 30;
@@ -33,7 +62,10 @@ struct Cache {
   Cache() { buffers.reserve(kMaxBuffers + 1); }  // release never allocates
 
   void free_all() {
-    for (const Cached& c : buffers) std::free(c.p);
+    for (const Cached& c : buffers) {
+      unpoison(c.p, c.capacity);
+      std::free(c.p);
+    }
     buffers.clear();
     bytes = 0;
   }
@@ -56,14 +88,14 @@ void* acquire_huge_buffer(size_t bytes) {
     retaining = c.retainers > 0;
     auto best = c.buffers.end();
     for (auto it = c.buffers.begin(); it != c.buffers.end(); ++it)
-      if (it->capacity >= need && it->capacity - need <= it->capacity / 3 &&
-          (best == c.buffers.end() || it->capacity < best->capacity))
+      if (serves(it->capacity, need) && (best == c.buffers.end() || it->capacity < best->capacity))
         best = it;
     if (best != c.buffers.end()) {
       const Cached got = *best;
+      c.out[got.p] = got.capacity;  // first: if this throws, the cache is unchanged
       c.bytes -= got.capacity;
       c.buffers.erase(best);
-      c.out.emplace(got.p, got.capacity);
+      unpoison(got.p, got.capacity);
       return got.p;
     }
   }
@@ -72,15 +104,17 @@ void* acquire_huge_buffer(size_t bytes) {
   // rebuild to the next (an exploding mesh's node count) still fit it later.
   // Otherwise only the huge pages the request fills are advised: a partly
   // used tail page stays in 4 KiB pages instead of a whole 2 MiB zeroed for
-  // a one-off build (~2 ms of a 132k-triangle build at 2 threads).
-  const size_t capacity =
-      retaining ? (need + need / 8 + kHugePage - 1) / kHugePage * kHugePage : need;
+  // a one-off build (~2 ms of a 132k-triangle build at 2 threads). The
+  // slack is dropped where the buffer could not serve its own size again
+  // (2 MiB asked, 4 MiB held).
+  size_t capacity = retaining ? (need + need / 8 + kHugePage - 1) / kHugePage * kHugePage : need;
+  if (!serves(capacity, need)) capacity = need;
   void* p = std::aligned_alloc(kHugePage, capacity);
   if (!p) throw std::bad_alloc();
   advise_huge_pages(p, retaining ? capacity : bytes);
   try {
     const std::lock_guard lock(c.mutex);
-    c.out.emplace(p, capacity);
+    c.out[p] = capacity;
   } catch (...) {
     std::free(p);
     throw;
@@ -99,8 +133,10 @@ void release_huge_buffer(void* p) noexcept {
     if (c.retainers > 0 && capacity > 0 && capacity <= kMaxBytes) {
       c.buffers.push_back({p, capacity});
       c.bytes += capacity;
+      poison(p, capacity);
       size_t drop = 0;
       while (c.buffers.size() - drop > kMaxBuffers || c.bytes > kMaxBytes) {
+        unpoison(c.buffers[drop].p, c.buffers[drop].capacity);
         std::free(c.buffers[drop].p);
         c.bytes -= c.buffers[drop].capacity;
         ++drop;
