@@ -72,6 +72,17 @@ inline std::vector<Ray> coherent_rays(const AABB& box, int w, int h) {
   return rays;
 }
 
+// The leaf (its own verts block) of each triangle of a flat layout, by leaf
+// index.
+inline std::vector<LeafRange> leaf_of_each(const FlatBvh& bvh) {
+  std::vector<LeafRange> out(bvh.triangles.size());
+  for (const BinaryNode& n : bvh.nodes)
+    if (n.is_leaf() && n.count > 0)
+      for (uint32_t j = n.index; j < n.index + n.count && j < out.size(); ++j)
+        out[j] = LeafRange::whole(n.index, n.count);
+  return out;
+}
+
 // Closest hit over every triangle of the flat layout, in leaf order, with
 // the same test and the same (tnear, tfar] update as the traversal: the
 // smallest (t, leaf index).
@@ -79,11 +90,12 @@ template <typename Test>
 bool brute_force(const FlatBvh& bvh, const Ray& ray, Hit& hit) {
   if (!ray_is_valid(ray)) return false;
   const auto p = Test::prepare(ray);
+  const std::vector<LeafRange> leaves = leaf_of_each(bvh);
   float tfar = ray.tfar;
   bool found = false;
   for (uint32_t i = 0; i < bvh.triangles.size(); ++i) {
     TriangleHit h;
-    if (Test::intersect(p, bvh.triangles, i, ray.tnear, tfar, h)) {
+    if (Test::intersect(p, bvh.triangles, leaves[i], i, ray.tnear, tfar, h)) {
       if (found && h.t == tfar) continue;  // a tie keeps the lower leaf index
       tfar = h.t;
       found = true;

@@ -26,9 +26,10 @@ size_t walk(const FlatBvh& f, uint32_t i, std::vector<int>& tri_seen, int depth,
     for (uint32_t k = n.index; k < n.index + n.count; ++k) {
       ++tri_seen.at(k);
       AABB t;
-      t.extend(f.triangles.verts[k].v0);
-      t.extend(f.triangles.verts[k].v1);
-      t.extend(f.triangles.verts[k].v2);
+      const TriangleVerts v = f.triangles.triangle(LeafRange::whole(n.index, n.count), k);
+      t.extend(v.v0);
+      t.extend(v.v1);
+      t.extend(v.v2);
       EXPECT_TRUE(box_of(n).contains(t)) << "leaf " << i << " tri " << k;
     }
     return 1;
@@ -54,15 +55,17 @@ void check(const test::BuiltBvh& b) {
   std::vector<std::vector<int>> per_input(b.scene.meshes.size());
   for (size_t g = 0; g < b.scene.meshes.size(); ++g)
     per_input[g].assign(b.scene.meshes[g].triangle_count(), 0);
-  for (size_t k = 0; k < f.triangles.size(); ++k) {
+  const std::vector<LeafRange> leaves = test::leaf_of_each(f);
+  for (uint32_t k = 0; k < f.triangles.size(); ++k) {
     const PrimRef r = f.triangles.refs[k];
     EXPECT_EQ(r, b.prims.refs[b.tree.prim_order[k]]);
     const TriangleMesh& m = b.scene.meshes.at(r.geom_id);
     ++per_input[r.geom_id].at(r.prim_id);
     const Vec3u t = m.triangles[r.prim_id];
-    EXPECT_EQ(f.triangles.verts[k].v0, m.positions[t[0]]);
-    EXPECT_EQ(f.triangles.verts[k].v1, m.positions[t[1]]);
-    EXPECT_EQ(f.triangles.verts[k].v2, m.positions[t[2]]);
+    const TriangleVerts v = f.triangles.triangle(leaves[k], k);
+    EXPECT_EQ(v.v0, m.positions[t[0]]);
+    EXPECT_EQ(v.v1, m.positions[t[1]]);
+    EXPECT_EQ(v.v2, m.positions[t[2]]);
     EXPECT_EQ(f.triangles.edges[k].v0, m.positions[t[0]]);
     EXPECT_EQ(f.triangles.edges[k].e1, m.positions[t[1]] - m.positions[t[0]]);
     EXPECT_EQ(f.triangles.edges[k].e2, m.positions[t[2]] - m.positions[t[0]]);
@@ -107,11 +110,12 @@ TEST(Flatten, KeepsOnlyTheTriangleArraysAskedFor) {
   EXPECT_FALSE(edges.triangles.holds(TriangleArrays::kBoth));
   EXPECT_TRUE(verts.triangles.edges.empty());
   EXPECT_TRUE(edges.triangles.verts.empty());
+  ASSERT_EQ(verts.triangles.verts.size(), 9 * n);
+  EXPECT_EQ(std::memcmp(verts.triangles.verts.data(), b.bvh.triangles.verts.data(),
+                        9 * n * sizeof(float)),
+            0);
   for (size_t k = 0; k < n; ++k) {
     EXPECT_EQ(verts.triangles.refs[k], b.bvh.triangles.refs[k]);
-    EXPECT_EQ(
-        std::memcmp(&verts.triangles.verts[k], &b.bvh.triangles.verts[k], sizeof(TriangleVerts)),
-        0);
     EXPECT_EQ(
         std::memcmp(&edges.triangles.edges[k], &b.bvh.triangles.edges[k], sizeof(TriangleEdges)),
         0);
@@ -140,13 +144,12 @@ TEST(Flatten, GatherIntoReusedStorageEqualsAFreshGather) {
       gather_leaf_triangles(b.tree, b.prims, b.scene, TriangleArrays::kVerts);
   LeafTriangles reused;
   reused.allocate(fresh.size(), TriangleArrays::kVerts);
-  for (TriangleVerts& t : reused.verts) t = TriangleVerts{};  // stale contents
-  const TriangleVerts* storage = reused.verts.data();
+  for (float& x : reused.verts) x = 0.0f;  // stale contents
+  const float* storage = reused.verts.data();
   gather_leaf_triangles(b.tree, b.prims, b.scene, TriangleArrays::kVerts, reused);
   EXPECT_EQ(reused.verts.data(), storage);
   EXPECT_EQ(
-      std::memcmp(reused.verts.data(), fresh.verts.data(), fresh.size() * sizeof(TriangleVerts)),
-      0);
+      std::memcmp(reused.verts.data(), fresh.verts.data(), fresh.verts.size() * sizeof(float)), 0);
   EXPECT_EQ(reused.refs, fresh.refs);
   // Other arrays asked for: the held ones follow.
   gather_leaf_triangles(b.tree, b.prims, b.scene, TriangleArrays::kEdges, reused);

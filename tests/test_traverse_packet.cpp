@@ -2,7 +2,8 @@
 // single-ray traversal of the same layout (bvh2, bvh4, bvh8) does: same hit or miss, same t, u, v
 // and ids bit for bit, same occlusion, for coherent and incoherent packets, mixed octants,
 // axis-parallel rays with ±0 components, per-lane intervals and origins on
-// the surface.
+// the surface. The watertight test on lanes (over the rays of a packet, or
+// over the triangles of a leaf) equals the scalar one bit for bit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -171,7 +172,9 @@ TEST(WatertightLanes, MatchesScalarTestBitForBit) {
   verts.push_back({centre, centre, centre + Vec3f{1, 0, 0}});                   // zero area
   verts.push_back({centre, centre + Vec3f{1, 1, 0}, centre + Vec3f{2, 2, 0}});  // a line
   tris.allocate(verts.size());
-  for (size_t i = 0; i < verts.size(); ++i) tris.verts[i] = verts[i];
+  const LeafRange all = LeafRange::whole(0, uint32_t(verts.size()));
+  for (uint32_t i = 0; i < verts.size(); ++i)
+    tris.set_triangle(all, i, verts[i].v0, verts[i].v1, verts[i].v2);
   size_t hits = 0, compared = 0;
   for (int round = 0; round < 400; ++round) {
     // 16 rays from one eye, aimed at fan vertices, edge points and interiors;
@@ -200,10 +203,11 @@ TEST(WatertightLanes, MatchesScalarTestBitForBit) {
     if (!lanes.usable()) continue;
     for (uint32_t i = 0; i < verts.size(); ++i) {
       alignas(64) float t[16], u[16], v[16];
-      const __mmask16 mask = lanes.intersect(tris, i, tfar, 0xFFFF, t, u, v);
+      const __mmask16 mask = lanes.intersect(tris, all, i, tfar, 0xFFFF, t, u, v);
       for (int l = 0; l < 16; ++l) {
         TriangleHit h{};
-        const bool hit = WatertightTest::intersect(prep[l], tris, i, tnear[l], tfar[l], h);
+        const bool hit = WatertightTest::intersect(prep[l], verts[i].v0, verts[i].v1, verts[i].v2,
+                                                   tnear[l], tfar[l], h);
         ++compared;
         ASSERT_EQ(hit, bool((mask >> l) & 1)) << "round " << round << " triangle " << i;
         if (!hit) continue;
@@ -216,6 +220,168 @@ TEST(WatertightLanes, MatchesScalarTestBitForBit) {
   }
   EXPECT_GT(compared, 20000u);
   EXPECT_GT(hits, compared / 40);
+}
+
+// The fan of MatchesScalarTestBitForBit with every triangle twice in a row
+// (so a leaf window holds exact duplicates, ties in t, besides triangles
+// sharing edges and vertices), a zero-area triangle and a line.
+std::vector<TriangleVerts> fan_with_duplicates(const Vec3f& centre) {
+  std::vector<TriangleVerts> verts;
+  for (int k = 0; k < 12; ++k) {
+    const float a0 = 0.5236f * k, a1 = 0.5236f * (k + 1);
+    const TriangleVerts t{centre, centre + Vec3f{std::cos(a0), std::sin(a0), 0.1f * k},
+                          centre + Vec3f{std::cos(a1), std::sin(a1), 0.1f * (k + 1)}};
+    verts.push_back(t);
+    verts.push_back(t);
+  }
+  verts.push_back({centre, centre, centre + Vec3f{1, 0, 0}});
+  verts.push_back({centre, centre + Vec3f{1, 1, 0}, centre + Vec3f{2, 2, 0}});
+  return verts;
+}
+
+// A ray from a random eye round the fan at a vertex, edge point or interior
+// point of one of its triangles, with one of a few intervals.
+Ray fan_probe(test::Rng& rng, const std::vector<TriangleVerts>& verts, const Vec3f& centre, int k) {
+  const Vec3f eye = centre + Vec3f{3.0f * (rng.uniform() - 0.5f), 3.0f * (rng.uniform() - 0.5f),
+                                   (k % 2 ? 4.0f : -4.0f) * (0.5f + rng.uniform())};
+  const TriangleVerts& v = verts[size_t(rng.uniform() * 24) % 24];
+  const float s = (k % 4 == 0) ? 0.0f : rng.uniform(), q = (k % 3 == 0) ? 0.0f : rng.uniform();
+  const Vec3f target = v.v0 + (v.v1 - v.v0) * s + (v.v2 - v.v0) * (q * (1.0f - s));
+  Ray r;
+  r.org = eye;
+  r.dir = target - eye;
+  r.tnear = k % 5 == 0 ? 0.5f : 0.0f;
+  r.tfar = k % 7 == 0 ? 1.0f : 1e30f;
+  return r;
+}
+
+// `verts` as verts blocks: one block of all (a leaf is then a part of it,
+// as a split leaf of a wide layout), or only the window [first, first +
+// count) written as its own block. Returns the leaf to test.
+LeafRange store_blocks(LeafTriangles& tris, const std::vector<TriangleVerts>& verts, bool own_block,
+                       uint32_t first, uint32_t count) {
+  const uint32_t n = uint32_t(verts.size());
+  const LeafRange block = own_block ? LeafRange::whole(first, count) : LeafRange::whole(0, n);
+  for (uint32_t i = block.first; i < block.first + block.count; ++i)
+    tris.set_triangle(block, i, verts[i].v0, verts[i].v1, verts[i].v2);
+  return {first, count, block.first, block.count};
+}
+
+// The fan with duplicates as leaf triangles (their verts blocks are written
+// per test by store_blocks).
+class WatertightLeaf : public ::testing::Test {
+ protected:
+  const Vec3f centre{0.3f, -0.2f, 2.0f};
+  const std::vector<TriangleVerts> verts = fan_with_duplicates(centre);
+  LeafTriangles tris;
+  void SetUp() override { tris.allocate(verts.size(), TriangleArrays::kVerts); }
+};
+
+// The leaf test over 8 (and 4) triangle lanes against the scalar test on the
+// raw vertices, bit for bit, for every window of 1..8 triangles, as its own
+// verts block and as a part of a larger one (windows ending at the array's
+// end too: the masked loads must not read past it).
+TEST_F(WatertightLeaf, MatchesScalarTestBitForBit) {
+  test::Rng rng(78);
+  size_t hits = 0, compared = 0;
+  for (int k = 0; k < 300; ++k) {
+    const Ray ray = fan_probe(rng, verts, centre, k);
+    const WatertightTest::Prepared prep = WatertightTest::prepare(ray);
+    for (bool own_block : {false, true})
+      for (uint32_t count = 1; count <= 8; ++count)
+        for (uint32_t first = 0; first + count <= verts.size(); first += 3) {
+          const LeafRange leaf = store_blocks(tris, verts, own_block, first, count);
+          alignas(32) float t[8], u[8], v[8], t4[4], u4[4], v4[4];
+          const unsigned mask =
+              watertight_leaf<8>(prep, tris, leaf, first, count, ray.tnear, ray.tfar, t, u, v);
+          ASSERT_EQ(mask >> count, 0u);
+          if (count <= 4) {  // the 4-lane version: the same lanes, the same bits
+            const unsigned mask4 =
+                watertight_leaf<4>(prep, tris, leaf, first, count, ray.tnear, ray.tfar, t4, u4, v4);
+            ASSERT_EQ(mask4, mask) << "ray " << k << " leaf " << first << "+" << count;
+            for (uint32_t l = 0; l < count; ++l)
+              if ((mask >> l) & 1) {
+                EXPECT_EQ(std::memcmp(&t4[l], &t[l], 4), 0);
+                EXPECT_EQ(std::memcmp(&u4[l], &u[l], 4), 0);
+                EXPECT_EQ(std::memcmp(&v4[l], &v[l], 4), 0);
+              }
+          }
+          for (uint32_t l = 0; l < count; ++l) {
+            const TriangleVerts& tv = verts[first + l];
+            TriangleHit h{};
+            const bool hit =
+                WatertightTest::intersect(prep, tv.v0, tv.v1, tv.v2, ray.tnear, ray.tfar, h);
+            ++compared;
+            ASSERT_EQ(hit, bool((mask >> l) & 1)) << "ray " << k << " triangle " << first + l;
+            if (!hit) continue;
+            ++hits;
+            EXPECT_EQ(std::memcmp(&h.t, &t[l], 4), 0);
+            EXPECT_EQ(std::memcmp(&h.u, &u[l], 4), 0);
+            EXPECT_EQ(std::memcmp(&h.v, &v[l], 4), 0);
+          }
+        }
+  }
+  EXPECT_GT(compared, 50000u);
+  EXPECT_GT(hits, compared / 40);
+}
+
+// intersect_leaf through the lanes (leaves of 2 or more) keeps exactly the hit
+// the triangle-by-triangle loop keeps (the kStats instantiation runs the
+// loop): leaves of 1..20 triangles (more than one chunk of 8), duplicates
+// hit at the same t (the lower index wins), and a closest hit carried in from
+// an earlier leaf at that same t with a lower or a higher index.
+TEST_F(WatertightLeaf, LeafTestKeepsTheLoopsHit) {
+  test::Rng rng(79);
+  size_t closest_hits = 0, carried_ties = 0;
+  for (int k = 0; k < 800; ++k) {
+    const Ray ray = fan_probe(rng, verts, centre, k);
+    const WatertightTest::Prepared prep = WatertightTest::prepare(ray);
+    for (uint32_t count = 1; count <= 20; ++count)
+      for (uint32_t first = 0; first + count <= verts.size(); first += 5) {
+        const LeafRange leaf = store_blocks(tris, verts, (first + count) % 2 == 0, first, count);
+        for (int carried = 0; carried < 3; ++carried) {
+          ClosestHit before;
+          float tfar = ray.tfar;
+          if (carried > 0) {  // the loop's own best, as if found in another leaf
+            ClosestHit probe;
+            float probe_tfar = ray.tfar;
+            TraversalStats stats;
+            intersect_leaf<WatertightTest, false, true>(prep, tris, leaf, ray.tnear, probe_tfar,
+                                                        probe, &stats);
+            if (!probe.found) continue;
+            before = probe;
+            before.index = carried == 1 ? 0 : uint32_t(verts.size());
+            tfar = probe_tfar;
+            ++carried_ties;
+          }
+          for (bool any : {false, true}) {
+            ClosestHit loop = before, lanes = before;
+            float loop_tfar = tfar, lanes_tfar = tfar;
+            TraversalStats stats;
+            bool loop_ret, lanes_ret;
+            if (any) {
+              loop_ret = intersect_leaf<WatertightTest, true, true>(prep, tris, leaf, ray.tnear,
+                                                                    loop_tfar, loop, &stats);
+              lanes_ret = intersect_leaf<WatertightTest, true, false>(prep, tris, leaf, ray.tnear,
+                                                                      lanes_tfar, lanes, nullptr);
+            } else {
+              loop_ret = intersect_leaf<WatertightTest, false, true>(prep, tris, leaf, ray.tnear,
+                                                                     loop_tfar, loop, &stats);
+              lanes_ret = intersect_leaf<WatertightTest, false, false>(prep, tris, leaf, ray.tnear,
+                                                                       lanes_tfar, lanes, nullptr);
+              closest_hits += loop.found && carried == 0;
+            }
+            ASSERT_EQ(loop_ret, lanes_ret) << "ray " << k << " leaf " << first << "+" << count;
+            ASSERT_EQ(loop.found, lanes.found);
+            EXPECT_EQ(loop.index, lanes.index) << "ray " << k << " leaf " << first << "+" << count;
+            EXPECT_EQ(std::memcmp(&loop.best, &lanes.best, sizeof(TriangleHit)), 0);
+            EXPECT_EQ(std::memcmp(&loop_tfar, &lanes_tfar, 4), 0);
+          }
+        }
+      }
+  }
+  EXPECT_GT(closest_hits, 5000u);
+  EXPECT_GT(carried_ties, 5000u);
 }
 
 // A tree that is a single leaf: the binary root's box is tested first, the

@@ -34,7 +34,7 @@ std::string check_wide(const WideBvh<N>& bvh, const Scene& scene, size_t* nodes_
       const PrimRef r = bvh.triangles.refs[j];
       const Vec3u& t = scene.meshes[r.geom_id].triangles[r.prim_id];
       const auto& pos = scene.meshes[r.geom_id].positions;
-      const TriangleVerts& v = bvh.triangles.verts[j];
+      const TriangleVerts v = bvh.triangles.triangle(ref.leaf_range(), j);
       if (!(v.v0 == pos[t[0]] && v.v1 == pos[t[1]] && v.v2 == pos[t[2]])) {
         err = "stale triangle data at " + std::to_string(j);
         return u;

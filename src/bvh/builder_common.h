@@ -22,9 +22,10 @@ namespace hprt {
 inline void validate_build_options(const BuildOptions& o) {
   if (o.bins < 2 || o.bins > 1024)
     throw InputError("--bins", "must be between 2 and 1024, got " + std::to_string(o.bins));
-  if (o.max_leaf_size < 1 || o.max_leaf_size > 1024)
+  // A traversal leaf reference holds its count in 8 bits (NodeRef).
+  if (o.max_leaf_size < 1 || o.max_leaf_size > 255)
     throw InputError("--leaf-size",
-                     "must be between 1 and 1024, got " + std::to_string(o.max_leaf_size));
+                     "must be between 1 and 255, got " + std::to_string(o.max_leaf_size));
   if (o.parallel_cutoff < 1) throw InputError("parallel_cutoff", "must be at least 1");
   if (!(o.sah.traversal_cost >= 0.0f) || !(o.sah.intersection_cost > 0.0f))
     throw InputError("SAH constants", "traversal cost must be >= 0 and intersection cost > 0");

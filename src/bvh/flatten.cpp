@@ -1,7 +1,8 @@
 // Build tree -> FlatBvh. Node pass: a depth-first walk that gives each inner
 // node's two children adjacent slots (pairs allocated in the order their
-// parents are visited); triangle pass: leaf-order copy of vertices, edges and
-// input (geomID, primID), in parallel over triangles.
+// parents are visited); triangle pass: leaf-order copy of vertices (each leaf
+// a verts block, leaf_triangles.h), edges and input (geomID, primID), in
+// parallel over the build tree's leaves.
 #include "bvh/flatten.h"
 
 #include <tbb/blocked_range.h>
@@ -26,17 +27,33 @@ BinaryNode to_flat(const BuildNode& b) {
 }  // namespace
 
 namespace {
+// The triangles of the build tree's leaves among nodes [begin, end), each
+// leaf one verts block.
 template <TriangleArrays kArrays>
 void gather_range(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
                   LeafTriangles& tris, size_t begin, size_t end) {
-  for (size_t j = begin; j != end; ++j) {
-    const PrimRef ref = prims.refs[tree.prim_order[j]];
-    const TriangleMesh& mesh = scene.meshes[ref.geom_id];
-    const Vec3u& t = mesh.triangles[ref.prim_id];
-    const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
-    if constexpr (kArrays != TriangleArrays::kEdges) tris.verts[j] = TriangleVerts{a, b, c};
-    if constexpr (kArrays != TriangleArrays::kVerts) tris.edges[j] = TriangleEdges{a, b - a, c - a};
-    tris.refs[j] = ref;
+  for (size_t n = begin; n != end; ++n) {
+    const BuildNode& leaf = tree.nodes[n];
+    if (!leaf.is_leaf()) continue;
+    if (size_t(leaf.first) + leaf.count > tree.prim_order.size())
+      throw std::invalid_argument("flatten: leaf range past prim_order");
+    float* block =
+        kArrays != TriangleArrays::kEdges ? &tris.verts[9 * size_t(leaf.first)] : nullptr;
+    const size_t rows = leaf.count;
+    for (uint32_t k = 0; k < leaf.count; ++k) {
+      const uint32_t j = leaf.first + k;
+      const PrimRef ref = prims.refs[tree.prim_order[j]];
+      const TriangleMesh& mesh = scene.meshes[ref.geom_id];
+      const Vec3u& t = mesh.triangles[ref.prim_id];
+      const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
+      if constexpr (kArrays != TriangleArrays::kEdges) {
+        const float v[9] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
+        for (int r = 0; r < 9; ++r) block[r * rows + k] = v[r];
+      }
+      if constexpr (kArrays != TriangleArrays::kVerts)
+        tris.edges[j] = TriangleEdges{a, b - a, c - a};
+      tris.refs[j] = ref;
+    }
   }
 }
 }  // namespace
@@ -50,9 +67,8 @@ LeafTriangles gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims
 
 void gather_leaf_triangles(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
                            TriangleArrays arrays, LeafTriangles& tris) {
-  const size_t m = tree.prim_order.size();
-  tris.allocate(m, arrays);
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, m, 4096),
+  tris.allocate(tree.prim_order.size(), arrays);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, tree.nodes.size(), 4096),
                     [&](const tbb::blocked_range<size_t>& r) {
                       switch (arrays) {
                         case TriangleArrays::kBoth:

@@ -127,6 +127,8 @@ struct Filler {
     const BuildNode& bn = tree.nodes[b];
     if (size_t(bn.first) + bn.count > tree.prim_order.size())
       throw std::invalid_argument("flatten: leaf range past prim_order");
+    if (bn.count > NodeRef::kMaxLeafCount)
+      throw std::invalid_argument("flatten: a leaf of more than 255 triangles");
     place();
     return NodeRef::leaf(bn.first, bn.count);
   }
@@ -159,7 +161,8 @@ void expand(const CollapsePlan<N>& plan, const BuildTree& tree, Filler& f, uint3
 // max_leaf_size all over (on an exploding 1M-triangle torus, Morton tree,
 // ~5-8 % less render time, scratch harness; SAH trees unchanged). The
 // binary tree's leaves are recorded as slot ranges, so its SAH cost can
-// still be computed from the layout.
+// still be computed from the layout; each part keeps the verts block of its
+// binary leaf (NodeRef::leaf_part).
 template <int N>
 void split_leaves_into_free_slots(WideNode<N>& node, CollapsedInner<N>& col, const BuildTree& tree,
                                   const PrimInfo& prims) {
@@ -184,10 +187,12 @@ void split_leaves_into_free_slots(WideNode<N>& node, CollapsedInner<N>& col, con
       node.set_box(i, node.box(i - 1));
     }
     ++k;
-    const uint32_t first = node.child[best].index(), half = most / 2;
-    node.child[best] = NodeRef::leaf(first, half);
+    const LeafRange whole = node.child[best].leaf_range();
+    const uint32_t first = whole.first, half = most / 2;
+    node.child[best] = NodeRef::leaf_part(first, half, whole.block_first, whole.block_count);
     node.set_box(best, range_box(first, first + half));
-    node.child[best + 1] = NodeRef::leaf(first + half, most - half);
+    node.child[best + 1] =
+        NodeRef::leaf_part(first + half, most - half, whole.block_first, whole.block_count);
     node.set_box(best + 1, range_box(first + half, first + most));
     // Ranges after the split slot move one on; a range holding it grows.
     const auto shift = [best](uint8_t& begin, uint8_t& end) {

@@ -8,25 +8,43 @@
 #include <cstdint>
 #include <limits>
 
+#include "bvh/leaf_triangles.h"
 #include "core/aabb.h"
 
 namespace hprt {
 
-// A child reference: an inner node's index into WideBvh::nodes (count 0), or a
-// leaf's triangle range [first, first + count) in leaf order, or empty.
+// A child reference: an inner node's index into WideBvh::nodes (high half
+// 0), or a leaf: its first triangle in leaf order (low half) and, above, its
+// count (bits 32-39, 1..255) and where it lies in its verts block
+// (LeafTriangles): bits 40-47 first - block_first, bits 48-55 block_count, 0
+// when the leaf is its own block; or empty.
 struct NodeRef {
   uint64_t bits = kEmptyBits;
 
   static constexpr uint64_t kEmptyBits = ~uint64_t(0);
+  static constexpr uint32_t kMaxLeafCount = 255;
   static constexpr NodeRef inner(uint32_t node) { return NodeRef{node}; }
+  // count 1..kMaxLeafCount (callers check).
   static constexpr NodeRef leaf(uint32_t first, uint32_t count) {
     return NodeRef{uint64_t(first) | uint64_t(count) << 32};
+  }
+  // Triangles [first, first + count) of the block [block_first,
+  // block_first + block_count) (at most kMaxLeafCount).
+  static constexpr NodeRef leaf_part(uint32_t first, uint32_t count, uint32_t block_first,
+                                     uint32_t block_count) {
+    return NodeRef{uint64_t(first) | uint64_t(count) << 32 | uint64_t(first - block_first) << 40 |
+                   uint64_t(block_count) << 48};
   }
   constexpr bool empty() const { return bits == kEmptyBits; }
   constexpr bool is_inner() const { return (bits >> 32) == 0; }
   constexpr bool is_leaf() const { return (bits >> 32) != 0 && !empty(); }
   constexpr uint32_t index() const { return uint32_t(bits); }  // node or first triangle
-  constexpr uint32_t count() const { return uint32_t(bits >> 32); }
+  constexpr uint32_t count() const { return uint32_t(bits >> 32) & 0xFF; }
+  constexpr LeafRange leaf_range() const {
+    const uint32_t block_count = uint32_t(bits >> 48) & 0xFF;
+    if (block_count == 0) return LeafRange::whole(index(), count());
+    return {index(), count(), index() - (uint32_t(bits >> 40) & 0xFF), block_count};
+  }
   constexpr bool operator==(const NodeRef&) const = default;
 };
 

@@ -30,7 +30,8 @@ Partial visit(Bvh& bvh, const Scene* scene, const Vec3u* tri_index, uint32_t ind
   Partial p;
   if (node.is_leaf()) {
     if constexpr (kGather) {
-      p = refit_leaf<kWrite>(bvh.triangles, *scene, tri_index, node.index, node.count);
+      p = refit_leaf<kWrite>(bvh.triangles, *scene, tri_index,
+                             LeafRange::whole(node.index, node.count));
     } else {
       p.box = AABB(node.min, node.max);
     }

@@ -40,15 +40,12 @@ struct Partial {
 // (x, y, z, 0) without reading past v.
 inline __m128 load3(const Vec3f& v) { return _mm_setr_ps(v.x, v.y, v.z, 0.0f); }
 
-// t = {a, b, c} from three (x, y, z, _) vectors: two overlapping 16-byte
-// stores (each lane 3 is overwritten by the next) and the last 12 bytes.
-inline void store_verts(TriangleVerts& t, __m128 a, __m128 b, __m128 c) {
-  static_assert(sizeof(TriangleVerts) == 9 * sizeof(float));
-  float* d = &t.v0.x;
-  _mm_storeu_ps(d, a);
-  _mm_storeu_ps(d + 3, b);
-  _mm_storel_pi(reinterpret_cast<__m64*>(d + 6), c);
-  _mm_store_ss(d + 8, _mm_movehl_ps(c, c));
+// Triangle k of a verts block of `rows` triangles starting at `block`
+// (leaf_triangles.h): its nine coordinates, one per row.
+inline void store_verts(float* block, size_t rows, uint32_t k, const Vec3f& a, const Vec3f& b,
+                        const Vec3f& c) {
+  const float v[9] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
+  for (int r = 0; r < 9; ++r) block[r * rows + k] = v[r];
 }
 
 // nonzero_area(a, b, c) of three (x, y, z, _) vectors: the same exact
@@ -76,17 +73,20 @@ inline bool nonzero_area(__m128 a, __m128 b, __m128 c) {
 // when prim info would keep it).
 template <RefitTriangles kWrite>
 inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* index,
-                          uint32_t first, uint32_t count) {
+                          const LeafRange& leaf) {
   Partial p;
   VecBox box;  // min / max are exact: the same box as AABB::extend, in vector registers
-  for (uint32_t j = first; j < first + count; ++j) {
+  float* block =
+      kWrite != RefitTriangles::kEdges ? &tris.verts[9 * size_t(leaf.block_first)] : nullptr;
+  for (uint32_t j = leaf.first; j < leaf.first + leaf.count; ++j) {
     const PrimRef ref = tris.refs[j];
     const TriangleMesh& mesh = scene.meshes[ref.geom_id];
     const Vec3u t = index ? index[j] : mesh.triangles[ref.prim_id];
     const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
     const Vec3f e1 = b - a, e2 = c - a;
     const __m128 va = load3(a), vb = load3(b), vc = load3(c);
-    if constexpr (kWrite != RefitTriangles::kEdges) store_verts(tris.verts[j], va, vb, vc);
+    if constexpr (kWrite != RefitTriangles::kEdges)
+      store_verts(block, leaf.block_count, j - leaf.block_first, a, b, c);
     if constexpr (kWrite != RefitTriangles::kVerts) tris.edges[j] = TriangleEdges{a, e1, e2};
     // All nine coordinates finite: then 0 * each is 0 (inf and NaN give NaN).
     const __m128 zero = _mm_setzero_ps();

@@ -35,8 +35,7 @@ Partial visit(Bvh& bvh, const Scene* scene, const Vec3u* tri_index, uint32_t ind
     if (c.empty()) return;
     if (c.is_leaf()) {
       if constexpr (kGather) {
-        p = refit_detail::refit_leaf<kWrite>(bvh.triangles, *scene, tri_index, c.index(),
-                                             c.count());
+        p = refit_detail::refit_leaf<kWrite>(bvh.triangles, *scene, tri_index, c.leaf_range());
       } else {
         p.box = node.box(i);
       }
@@ -108,8 +107,7 @@ Partial visit_root(Bvh& bvh, const Scene* scene, const Vec3u* tri_index) {
                                      wide_parallel_depth<N>(bvh.triangles.size()));
   Partial p;
   if constexpr (kGather) {
-    p = refit_detail::refit_leaf<kWrite>(bvh.triangles, *scene, tri_index, bvh.root.index(),
-                                         bvh.root.count());
+    p = refit_detail::refit_leaf<kWrite>(bvh.triangles, *scene, tri_index, bvh.root.leaf_range());
   }
   p.unit_cost = bvh.root.count();
   p.area_cost = double(p.box.half_area()) * bvh.root.count();

@@ -69,8 +69,10 @@ bool traverse(const FlatBvh& bvh, const Ray& ray, Hit& hit, TraversalStats* stat
 #endif
       // A hit leaf's triangles are requested now, so their lines are on the
       // way while the other child (or the stack) is dealt with.
-      if (hl && left[0].is_leaf()) Test::prefetch(tris, left[0].index, left[0].count);
-      if (hr && left[1].is_leaf()) Test::prefetch(tris, left[1].index, left[1].count);
+      if (hl && left[0].is_leaf())
+        Test::prefetch(tris, LeafRange::whole(left[0].index, left[0].count));
+      if (hr && left[1].is_leaf())
+        Test::prefetch(tris, LeafRange::whole(left[1].index, left[1].count));
       if (hl && hr) {
         if (tr < tl) {
           stack.push(li, tl);
@@ -88,8 +90,9 @@ bool traverse(const FlatBvh& bvh, const Ray& ray, Hit& hit, TraversalStats* stat
         break;
       }
     }
-    if (node && intersect_leaf<Test, kAnyHit, kStats>(prep, tris, node->index, node->count, tnear,
-                                                      tfar, closest, stats)) {
+    if (node &&
+        intersect_leaf<Test, kAnyHit, kStats>(
+            prep, tris, LeafRange::whole(node->index, node->count), tnear, tfar, closest, stats)) {
       closest.store(tris, hit);
       return true;
     }

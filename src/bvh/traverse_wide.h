@@ -5,8 +5,8 @@
 // (Embree's BVHNIntersector1 orders children the same way); any-hit queries
 // skip that sort. Stack entries
 // carry their entry distance, so popped nodes beyond the closest hit are
-// skipped. The leaf loop and its (tnear, tfar] rule are traverse()'s, so both
-// layouts find the same hits.
+// skipped. The leaf test and its (tnear, tfar] rule are traverse()'s
+// (intersect_leaf), so both layouts find the same hits.
 #pragma once
 
 #include <cstdint>
@@ -33,24 +33,24 @@ inline void prefetch_node(const WideNode<N>* node) {
 }
 }  // namespace detail
 
-// Same contract as traverse(): the ray must be valid (ray_is_valid).
+// The traversal loop from node `start` (the root, or a node a packet hands
+// over to one of its rays, traverse_packet.h) with the ray's tfar and closest
+// hit so far, both updated. With kAnyHit it returns true at the first hit
+// (recorded in `closest`); otherwise false, the answer being in `closest`.
 template <typename Test, bool kAnyHit, int N, bool kStats = false>
-bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
-                   TraversalStats* stats = nullptr) {
-  if (bvh.empty()) return false;
+HPRT_FORCE_INLINE bool traverse_wide_from(const WideBvh<N>& bvh, NodeRef start,
+                                          const WideSlabRay& slab,
+                                          const typename Test::Prepared& prep, float tnear,
+                                          float& tfar, ClosestHit& closest,
+                                          TraversalStats* stats = nullptr) {
   const WideNode<N>* nodes = bvh.nodes.data();
   const LeafTriangles& tris = bvh.triangles;
-  const WideSlabRay slab(ray);
-  const typename Test::Prepared prep = Test::prepare(ray);
-  const float tnear = ray.tnear;
-  float tfar = ray.tfar;
-  ClosestHit closest;
 
   // Each wide level pushes at most N - 1 entries and the tree is no deeper
   // than the binary tree it was collapsed from.
   detail::WideStackEntry stack[1 + (N - 1) * kMaxBuildDepth];
   int sp = 0;
-  NodeRef cur = bvh.root;
+  NodeRef cur = start;
   for (;;) {
     while (cur.is_inner()) {
       if constexpr (kStats) ++stats->nodes;
@@ -61,7 +61,7 @@ bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
         const int i = __builtin_ctz(m);
         const NodeRef c = node.child[i];
         if (c.is_leaf())
-          Test::prefetch(tris, c.index(), c.count());
+          Test::prefetch(tris, c.leaf_range());
         else
           detail::prefetch_node(&nodes[c.index()]);
       }
@@ -112,17 +112,12 @@ bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
       }
       cur = NodeRef{stack[--sp].ref};
     }
-    if (cur.is_leaf() && intersect_leaf<Test, kAnyHit, kStats>(prep, tris, cur.index(), cur.count(),
-                                                               tnear, tfar, closest, stats)) {
-      closest.store(tris, hit);
+    if (cur.is_leaf() && intersect_leaf<Test, kAnyHit, kStats>(prep, tris, cur.leaf_range(), tnear,
+                                                               tfar, closest, stats))
       return true;
-    }
     // Pop the next entry that may still hold a closer hit.
     for (;;) {
-      if (sp == 0) {
-        if (closest.found) closest.store(tris, hit);
-        return closest.found;
-      }
+      if (sp == 0) return false;
       const detail::WideStackEntry e = stack[--sp];
       if (e.entry <= tfar) {
         cur = NodeRef{e.ref};
@@ -130,6 +125,21 @@ bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
       }
     }
   }
+}
+
+// Same contract as traverse(): the ray must be valid (ray_is_valid).
+template <typename Test, bool kAnyHit, int N, bool kStats = false>
+bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
+                   TraversalStats* stats = nullptr) {
+  if (bvh.empty()) return false;
+  const WideSlabRay slab(ray);
+  const typename Test::Prepared prep = Test::prepare(ray);
+  float tfar = ray.tfar;
+  ClosestHit closest;
+  traverse_wide_from<Test, kAnyHit, N, kStats>(bvh, bvh.root, slab, prep, ray.tnear, tfar, closest,
+                                               stats);
+  if (closest.found) closest.store(bvh.triangles, hit);
+  return closest.found;
 }
 
 }  // namespace hprt

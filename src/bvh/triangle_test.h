@@ -66,15 +66,24 @@ struct WatertightTest {
                                           const Vec3f& v2, float tnear, float tfar,
                                           TriangleHit& hit) {
     const Vec3f a = v0 - p.org, b = v1 - p.org, c = v2 - p.org;
+    return intersect_relative(p, {a[p.kx], a[p.ky], a[p.kz]}, {b[p.kx], b[p.ky], b[p.kz]},
+                              {c[p.kx], c[p.ky], c[p.kz]}, tnear, tfar, hit);
+  }
+
+  // The test from the vertices minus the ray origin, each already on the
+  // permuted axes (kx, ky, kz).
+  HPRT_FORCE_INLINE static bool intersect_relative(const Prepared& p, const Vec3f& a,
+                                                   const Vec3f& b, const Vec3f& c, float tnear,
+                                                   float tfar, TriangleHit& hit) {
     // Sheared 2D vertices. Each must come out bit-identical in every triangle
     // that shares the vertex, whatever the compiler does: `x - s*z` in float
     // may or may not be contracted into an FMA depending on the inlining
     // context (seen with g++ 12 -O3 -march=native: 24 leaks in 10k vertex/edge
     // probes). Evaluated in double, s*z is exact, so fused or not the result
     // is the same correctly rounded value, then rounded once to float.
-    const float ax = shear(a[p.kx], p.sx, a[p.kz]), ay = shear(a[p.ky], p.sy, a[p.kz]);
-    const float bx = shear(b[p.kx], p.sx, b[p.kz]), by = shear(b[p.ky], p.sy, b[p.kz]);
-    const float cx = shear(c[p.kx], p.sx, c[p.kz]), cy = shear(c[p.ky], p.sy, c[p.kz]);
+    const float ax = shear(a.x, p.sx, a.z), ay = shear(a.y, p.sy, a.z);
+    const float bx = shear(b.x, p.sx, b.z), by = shear(b.y, p.sy, b.z);
+    const float cx = shear(c.x, p.sx, c.z), cy = shear(c.y, p.sy, c.z);
     // U, V, W: scaled barycentrics of v0, v1, v2 (edge functions). They are
     // evaluated in double: the products of two floats are exact there, so
     // each edge function is the correctly rounded difference of exact
@@ -90,8 +99,7 @@ struct WatertightTest {
     if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return false;
     const double det = u + v + w;
     if (det == 0.0) return false;
-    const double az = double(p.sz) * a[p.kz], bz = double(p.sz) * b[p.kz],
-                 cz = double(p.sz) * c[p.kz];
+    const double az = double(p.sz) * a.z, bz = double(p.sz) * b.z, cz = double(p.sz) * c.z;
     // Fused explicitly: left to the compiler, whether these products are
     // contracted into FMAs depends on the inlining context, and the packet
     // version (triangle_test_packet.h) must give the same bits.
@@ -105,18 +113,25 @@ struct WatertightTest {
     return true;
   }
 
-  // Requests the cache lines of triangles [first, first + count).
-  HPRT_FORCE_INLINE static void prefetch(const LeafTriangles& tris, uint32_t first,
-                                         uint32_t count) {
-    const char* b = reinterpret_cast<const char*>(tris.verts.data() + first);
+  // Requests the cache lines of the leaf's verts block (its rows span it).
+  HPRT_FORCE_INLINE static void prefetch(const LeafTriangles& tris, const LeafRange& leaf) {
+    const char* b = reinterpret_cast<const char*>(tris.vert_row(leaf.block_first, 0, 0));
     __builtin_prefetch(b);
-    __builtin_prefetch(b + count * sizeof(TriangleVerts) - 1);
+    __builtin_prefetch(b + 9 * sizeof(float) * leaf.block_count - 1);
   }
 
-  HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const LeafTriangles& tris, uint32_t i,
-                                          float tnear, float tfar, TriangleHit& hit) {
-    const TriangleVerts& t = tris.verts[i];
-    return intersect(p, t.v0, t.v1, t.v2, tnear, tfar, hit);
+  // Triangle i of `leaf`: the nine coordinates the test needs, one from each
+  // row of the leaf's verts block.
+  HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const LeafTriangles& tris,
+                                          const LeafRange& leaf, uint32_t i, float tnear,
+                                          float tfar, TriangleHit& hit) {
+    const float* q = tris.vert_row(leaf.block_first, leaf.block_count, 0) + (i - leaf.block_first);
+    const size_t s = leaf.block_count;
+    const auto rel = [&](int k) {
+      const float* v = q + 3 * k * s;
+      return Vec3f{v[p.kx * s] - p.org[p.kx], v[p.ky * s] - p.org[p.ky], v[p.kz * s] - p.org[p.kz]};
+    };
+    return intersect_relative(p, rel(0), rel(1), rel(2), tnear, tfar, hit);
   }
 };
 
@@ -148,15 +163,16 @@ struct MollerTest {
     return true;
   }
 
-  HPRT_FORCE_INLINE static void prefetch(const LeafTriangles& tris, uint32_t first,
-                                         uint32_t count) {
-    const char* b = reinterpret_cast<const char*>(tris.edges.data() + first);
+  HPRT_FORCE_INLINE static void prefetch(const LeafTriangles& tris, const LeafRange& leaf) {
+    const char* b = reinterpret_cast<const char*>(tris.edges.data() + leaf.first);
     __builtin_prefetch(b);
-    __builtin_prefetch(b + count * sizeof(TriangleEdges) - 1);
+    __builtin_prefetch(b + leaf.count * sizeof(TriangleEdges) - 1);
   }
 
-  HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const LeafTriangles& tris, uint32_t i,
-                                          float tnear, float tfar, TriangleHit& hit) {
+  // Triangle i (of any leaf: the edges are stored triangle by triangle).
+  HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const LeafTriangles& tris,
+                                          const LeafRange&, uint32_t i, float tnear, float tfar,
+                                          TriangleHit& hit) {
     const TriangleEdges& t = tris.edges[i];
     return intersect(p, t.v0, t.e1, t.e2, tnear, tfar, hit);
   }

@@ -1,7 +1,10 @@
-// WatertightTest::intersect for the 16 rays of a packet at once (AVX-512, the
-// doubles in two halves of 8), for packets whose rays share the axis
-// permutation (kx, ky, kz): camera rays and their shadow and mirror rays
-// nearly always do. Lane by lane the operations are the scalar test's, in the
+// WatertightTest::intersect on double lanes (AVX-512), two ways: lanes over
+// the 16 rays of a packet against one triangle (WatertightLanes, the doubles
+// in two halves of 8), for packets whose rays share the axis permutation
+// (kx, ky, kz): camera rays and their shadow and mirror rays nearly always
+// do; and lanes over up to 8 (or 4) triangles of a leaf against one ray
+// (watertight_leaf<8>, watertight_leaf<4>), loaded a row of the leaf's verts
+// block at a time. Lane by lane the operations are the scalar test's, in the
 // same order and precision (the float differences, the shear and edge
 // functions in double with exact products, the fused t sum, one division),
 // so a lane hits exactly when the scalar test says so, with the same t, u, v.
@@ -17,6 +20,117 @@
 #include "core/force_inline.h"
 
 namespace hprt {
+
+namespace detail {
+
+// The vectors and operations of the lane test at W lanes: W floats, W
+// doubles, a W-bit mask. Conversions go through their mask variants: the
+// plain 512-bit ones pass an undefined operand that g++ 12 reports as
+// maybe-uninitialized.
+template <int W>
+struct Lanes;
+
+template <>
+struct Lanes<8> {
+  using F = __m256;
+  using D = __m512d;
+  static HPRT_FORCE_INLINE D wide(F f) {
+    return _mm512_mask_cvtps_pd(_mm512_setzero_pd(), 0xFF, f);
+  }
+  static HPRT_FORCE_INLINE F narrow(D d) {
+    return _mm512_mask_cvtpd_ps(_mm256_setzero_ps(), 0xFF, d);
+  }
+  static HPRT_FORCE_INLINE D set(double x) { return _mm512_set1_pd(x); }
+  static HPRT_FORCE_INLINE F setf(float x) { return _mm256_set1_ps(x); }
+  static HPRT_FORCE_INLINE F subf(F a, F b) { return _mm256_sub_ps(a, b); }
+  static HPRT_FORCE_INLINE D add(D a, D b) { return _mm512_add_pd(a, b); }
+  static HPRT_FORCE_INLINE D mul(D a, D b) { return _mm512_mul_pd(a, b); }
+  static HPRT_FORCE_INLINE D div(D a, D b) { return _mm512_div_pd(a, b); }
+  static HPRT_FORCE_INLINE D fmadd(D a, D b, D c) { return _mm512_fmadd_pd(a, b, c); }
+  static HPRT_FORCE_INLINE D fmsub(D a, D b, D c) { return _mm512_fmsub_pd(a, b, c); }
+  static HPRT_FORCE_INLINE D fnmadd(D a, D b, D c) { return _mm512_fnmadd_pd(a, b, c); }
+  template <int kCmp>
+  static HPRT_FORCE_INLINE __mmask8 cmp(D a, D b) {
+    return _mm512_cmp_pd_mask(a, b, kCmp);
+  }
+  static HPRT_FORCE_INLINE void store(float* p, F f) { _mm256_storeu_ps(p, f); }
+#if defined(__AVX512VL__)
+  static HPRT_FORCE_INLINE F load(__mmask8 m, const float* p) {
+    return _mm256_maskz_loadu_ps(m, p);
+  }
+#endif
+};
+
+#if defined(__AVX512VL__)
+template <>
+struct Lanes<4> {
+  using F = __m128;
+  using D = __m256d;
+  static HPRT_FORCE_INLINE D wide(F f) { return _mm256_cvtps_pd(f); }
+  static HPRT_FORCE_INLINE F narrow(D d) { return _mm256_cvtpd_ps(d); }
+  static HPRT_FORCE_INLINE D set(double x) { return _mm256_set1_pd(x); }
+  static HPRT_FORCE_INLINE F setf(float x) { return _mm_set1_ps(x); }
+  static HPRT_FORCE_INLINE F subf(F a, F b) { return _mm_sub_ps(a, b); }
+  static HPRT_FORCE_INLINE D add(D a, D b) { return _mm256_add_pd(a, b); }
+  static HPRT_FORCE_INLINE D mul(D a, D b) { return _mm256_mul_pd(a, b); }
+  static HPRT_FORCE_INLINE D div(D a, D b) { return _mm256_div_pd(a, b); }
+  static HPRT_FORCE_INLINE D fmadd(D a, D b, D c) { return _mm256_fmadd_pd(a, b, c); }
+  static HPRT_FORCE_INLINE D fmsub(D a, D b, D c) { return _mm256_fmsub_pd(a, b, c); }
+  static HPRT_FORCE_INLINE D fnmadd(D a, D b, D c) { return _mm256_fnmadd_pd(a, b, c); }
+  template <int kCmp>
+  static HPRT_FORCE_INLINE __mmask8 cmp(D a, D b) {
+    return _mm256_cmp_pd_mask(a, b, kCmp);
+  }
+  static HPRT_FORCE_INLINE void store(float* p, F f) { _mm_storeu_ps(p, f); }
+  static HPRT_FORCE_INLINE F load(__mmask8 m, const float* p) { return _mm_maskz_loadu_ps(m, p); }
+};
+#endif
+
+// The scalar test on W lanes: d[k][a] = vertex k minus the ray origin on
+// permuted axis a (kx, ky, kz), in float; shear = (sx, sy, sz). Returns the
+// lanes with a hit at tnear < t <= tfar; t, u, v are written for all W lanes
+// when any lane hits.
+template <int W>
+HPRT_FORCE_INLINE __mmask8 watertight_lanes(const typename Lanes<W>::F (&d)[3][3],
+                                            const typename Lanes<W>::D (&shear)[3],
+                                            typename Lanes<W>::D tnear, typename Lanes<W>::F tfar,
+                                            float* t_out, float* u_out, float* v_out) {
+  using L = Lanes<W>;
+  using D = typename L::D;
+  // Sheared 2D vertices: float(x - s*z) in double (s*z exact), back to double.
+  D x[3], y[3], z[3];
+  for (int k = 0; k < 3; ++k) {
+    z[k] = L::wide(d[k][2]);
+    x[k] = L::wide(L::narrow(L::fnmadd(shear[0], z[k], L::wide(d[k][0]))));
+    y[k] = L::wide(L::narrow(L::fnmadd(shear[1], z[k], L::wide(d[k][1]))));
+  }
+  // Edge functions: differences of exact products, rounded once.
+  const D u = L::fmsub(x[2], y[1], L::mul(y[2], x[1]));
+  const D v = L::fmsub(x[0], y[2], L::mul(y[0], x[2]));
+  const D w = L::fmsub(x[1], y[0], L::mul(y[1], x[0]));
+  const D zero = L::set(0.0);
+  const __mmask8 neg = L::template cmp<_CMP_LT_OQ>(u, zero) | L::template cmp<_CMP_LT_OQ>(v, zero) |
+                       L::template cmp<_CMP_LT_OQ>(w, zero);
+  const __mmask8 pos = L::template cmp<_CMP_GT_OQ>(u, zero) | L::template cmp<_CMP_GT_OQ>(v, zero) |
+                       L::template cmp<_CMP_GT_OQ>(w, zero);
+  const D det = L::add(L::add(u, v), w);
+  __mmask8 ok = __mmask8(~(neg & pos)) & L::template cmp<_CMP_NEQ_UQ>(det, zero);
+  if (!ok) return 0;
+  const D sz = shear[2];
+  const D tt =
+      L::fmadd(w, L::mul(sz, z[2]), L::fmadd(v, L::mul(sz, z[1]), L::mul(u, L::mul(sz, z[0]))));
+  const D rcp = L::div(L::set(1.0), det);
+  const typename L::F t = L::narrow(L::mul(tt, rcp));
+  const D td = L::wide(t);
+  ok &= L::template cmp<_CMP_LT_OQ>(tnear, td) & L::template cmp<_CMP_LE_OQ>(td, L::wide(tfar));
+  if (!ok) return 0;
+  L::store(t_out, t);
+  L::store(u_out, L::narrow(L::mul(v, rcp)));
+  L::store(v_out, L::narrow(L::mul(w, rcp)));
+  return ok;
+}
+
+}  // namespace detail
 
 class WatertightLanes {
  public:
@@ -41,18 +155,19 @@ class WatertightLanes {
     for (int h = 0; h < 2; ++h) {
       for (int a = 0; a < 3; ++a) {
         org_[h][a] = _mm256_load_ps(o[a] + 8 * h);
-        shear_[h][a] = wide(_mm256_load_ps(s[a] + 8 * h));
+        shear_[h][a] = detail::Lanes<8>::wide(_mm256_load_ps(s[a] + 8 * h));
       }
-      tnear_[h] = wide(_mm256_loadu_ps(tnear + 8 * h));
+      tnear_[h] = detail::Lanes<8>::wide(_mm256_loadu_ps(tnear + 8 * h));
     }
   }
   bool usable() const { return usable_; }
 
   // The lanes of `lanes` whose ray hits triangle i of `tris` with
   // tnear < t <= tfar[lane]; t, u, v are written for every lane of those halves.
-  HPRT_FORCE_INLINE __mmask16 intersect(const LeafTriangles& tris, uint32_t i, const float* tfar,
-                                        __mmask16 lanes, float* t, float* u, float* v) const {
-    const TriangleVerts& tv = tris.verts[i];
+  HPRT_FORCE_INLINE __mmask16 intersect(const LeafTriangles& tris, const LeafRange& leaf,
+                                        uint32_t i, const float* tfar, __mmask16 lanes, float* t,
+                                        float* u, float* v) const {
+    const TriangleVerts tv = tris.triangle(leaf, i);
     const float vk[3][3] = {{tv.v0[kx_], tv.v0[ky_], tv.v0[kz_]},
                             {tv.v1[kx_], tv.v1[ky_], tv.v1[kz_]},
                             {tv.v2[kx_], tv.v2[ky_], tv.v2[kz_]}};
@@ -67,56 +182,13 @@ class WatertightLanes {
   }
 
  private:
-  // Float <-> double conversions through their mask variants: the plain ones
-  // pass an undefined operand that g++ 12 reports as maybe-uninitialized.
-  static HPRT_FORCE_INLINE __m512d wide(__m256 f) {
-    return _mm512_mask_cvtps_pd(_mm512_setzero_pd(), 0xFF, f);
-  }
-  static HPRT_FORCE_INLINE __m256 narrow(__m512d d) {
-    return _mm512_mask_cvtpd_ps(_mm256_setzero_ps(), 0xFF, d);
-  }
-
   HPRT_FORCE_INLINE __mmask8 half(const float (&vk)[3][3], int h, const float* tfar, float* t_out,
                                   float* u_out, float* v_out) const {
-    // Vertex minus origin in float, per permuted axis (the scalar `v - org`).
     __m256 d[3][3];
     for (int k = 0; k < 3; ++k)
       for (int a = 0; a < 3; ++a) d[k][a] = _mm256_sub_ps(_mm256_set1_ps(vk[k][a]), org_[h][a]);
-    // Sheared 2D vertices: float(x - s*z) in double (s*z exact), back to double.
-    __m512d x[3], y[3], z[3];
-    for (int k = 0; k < 3; ++k) {
-      z[k] = wide(d[k][2]);
-      x[k] = wide(narrow(_mm512_fnmadd_pd(shear_[h][0], z[k], wide(d[k][0]))));
-      y[k] = wide(narrow(_mm512_fnmadd_pd(shear_[h][1], z[k], wide(d[k][1]))));
-    }
-    // Edge functions: differences of exact products, rounded once.
-    const __m512d u = _mm512_fmsub_pd(x[2], y[1], _mm512_mul_pd(y[2], x[1]));
-    const __m512d v = _mm512_fmsub_pd(x[0], y[2], _mm512_mul_pd(y[0], x[2]));
-    const __m512d w = _mm512_fmsub_pd(x[1], y[0], _mm512_mul_pd(y[1], x[0]));
-    const __m512d zero = _mm512_setzero_pd();
-    const __mmask8 neg = _mm512_cmp_pd_mask(u, zero, _CMP_LT_OQ) |
-                         _mm512_cmp_pd_mask(v, zero, _CMP_LT_OQ) |
-                         _mm512_cmp_pd_mask(w, zero, _CMP_LT_OQ);
-    const __mmask8 pos = _mm512_cmp_pd_mask(u, zero, _CMP_GT_OQ) |
-                         _mm512_cmp_pd_mask(v, zero, _CMP_GT_OQ) |
-                         _mm512_cmp_pd_mask(w, zero, _CMP_GT_OQ);
-    const __m512d det = _mm512_add_pd(_mm512_add_pd(u, v), w);
-    __mmask8 ok = __mmask8(~(neg & pos)) & _mm512_cmp_pd_mask(det, zero, _CMP_NEQ_UQ);
-    if (!ok) return 0;
-    const __m512d sz = shear_[h][2];
-    const __m512d tt = _mm512_fmadd_pd(
-        w, _mm512_mul_pd(sz, z[2]),
-        _mm512_fmadd_pd(v, _mm512_mul_pd(sz, z[1]), _mm512_mul_pd(u, _mm512_mul_pd(sz, z[0]))));
-    const __m512d rcp = _mm512_div_pd(_mm512_set1_pd(1.0), det);
-    const __m256 t = narrow(_mm512_mul_pd(tt, rcp));
-    const __m512d td = wide(t);
-    ok &= _mm512_cmp_pd_mask(tnear_[h], td, _CMP_LT_OQ) &
-          _mm512_cmp_pd_mask(td, wide(_mm256_loadu_ps(tfar)), _CMP_LE_OQ);
-    if (!ok) return 0;
-    _mm256_storeu_ps(t_out, t);
-    _mm256_storeu_ps(u_out, narrow(_mm512_mul_pd(v, rcp)));
-    _mm256_storeu_ps(v_out, narrow(_mm512_mul_pd(w, rcp)));
-    return ok;
+    return detail::watertight_lanes<8>(d, shear_[h], tnear_[h], _mm256_loadu_ps(tfar), t_out, u_out,
+                                       v_out);
   }
 
   bool usable_ = false;
@@ -125,6 +197,32 @@ class WatertightLanes {
   __m512d shear_[2][3];  // per half: sx, sy, sz
   __m512d tnear_[2];
 };
+
+#if defined(__AVX512VL__)
+// Triangles [first, first + count) of `leaf` (count 1..W) against one ray:
+// the lanes (triangle first + lane) with a hit at tnear < t <= tfar; t, u, v
+// are written for all W lanes when any lane hits. Each coordinate of the
+// chunk is one masked load from its row of the leaf's verts block.
+template <int W>
+HPRT_FORCE_INLINE unsigned watertight_leaf(const WatertightTest::Prepared& p,
+                                           const LeafTriangles& tris, const LeafRange& leaf,
+                                           uint32_t first, uint32_t count, float tnear, float tfar,
+                                           float* t, float* u, float* v) {
+  using L = detail::Lanes<W>;
+  const __mmask8 lanes = __mmask8((1u << count) - 1);
+  const float* base =
+      tris.vert_row(leaf.block_first, leaf.block_count, 0) + (first - leaf.block_first);
+  const size_t rows = leaf.block_count;
+  const int axis[3] = {p.kx, p.ky, p.kz};
+  typename L::F d[3][3];
+  for (int k = 0; k < 3; ++k)
+    for (int a = 0; a < 3; ++a)
+      d[k][a] = L::subf(L::load(lanes, base + (3 * k + axis[a]) * rows), L::setf(p.org[axis[a]]));
+  const typename L::D shear[3] = {L::set(double(p.sx)), L::set(double(p.sy)), L::set(double(p.sz))};
+  return detail::watertight_lanes<W>(d, shear, L::set(double(tnear)), L::setf(tfar), t, u, v) &
+         lanes;
+}
+#endif
 
 }  // namespace hprt
 
