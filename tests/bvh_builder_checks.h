@@ -126,6 +126,10 @@ inline void check_bad_options(BuilderFn build) {
   o = BuildOptions{};
   o.max_leaf_size = 0;
   EXPECT_THROW(build(p, o), InputError);
+  o.max_leaf_size = 256;  // a traversal leaf reference counts to 255 (NodeRef)
+  EXPECT_THROW(build(p, o), InputError);
+  o.max_leaf_size = 255;
+  EXPECT_NO_THROW(build(p, o));
 }
 
 }  // namespace hprt::test
