@@ -82,20 +82,31 @@ TEST_F(CmdBuild, LayoutChangesMemoryNotTheTree) {
   }
 }
 
-// The SAH constants reach the builder: a dearer inner node makes fewer,
-// fuller leaves (never above --leaf-size), and the report says which were used.
+// The SAH constants reach the builder: a dearer inner node (relative to a
+// triangle) makes fewer, fuller leaves (never above --leaf-size), a cheaper
+// one more; only their ratio matters; the report says which were used.
 TEST_F(CmdBuild, SahConstantsShapeTheTree) {
-  const CliResult a = run("build " + mesh_ + " --json");
-  const CliResult b = run("build " + mesh_ + " --sah-traversal 8 --sah-intersection 2 --json");
+  const CliResult a = run("build " + mesh_ + " --json");  // 2 and 1
+  const CliResult b = run("build " + mesh_ + " --sah-traversal 32 --sah-intersection 2 --json");
+  const CliResult c = run("build " + mesh_ + " --sah-traversal 1 --json");
+  const CliResult d = run("build " + mesh_ + " --sah-traversal 4 --sah-intersection 2 --json");
   ASSERT_EQ(a.code, 0) << a.err;
   ASSERT_EQ(b.code, 0) << b.err;
-  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out);
-  EXPECT_EQ(jb["sah_traversal_cost"], 8.0);
+  ASSERT_EQ(c.code, 0) << c.err;
+  ASSERT_EQ(d.code, 0) << d.err;
+  const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out),
+             jc = nlohmann::json::parse(c.out), jd = nlohmann::json::parse(d.out);
+  EXPECT_EQ(ja["sah_traversal_cost"], 2.0);
+  EXPECT_EQ(ja["sah_intersection_cost"], 1.0);
+  EXPECT_EQ(jb["sah_traversal_cost"], 32.0);
   EXPECT_EQ(jb["sah_intersection_cost"], 2.0);
-  EXPECT_NE(ja["tree_hash"], jb["tree_hash"]);
-  EXPECT_LT(jb["leaves"].get<size_t>(), ja["leaves"].get<size_t>());
-  EXPECT_GT(jb["avg_leaf_size"].get<double>(), ja["avg_leaf_size"].get<double>());
+  EXPECT_NE(jb["tree_hash"], jc["tree_hash"]);
+  EXPECT_LT(jb["leaves"].get<size_t>(), jc["leaves"].get<size_t>());
+  EXPECT_GT(jb["avg_leaf_size"].get<double>(), jc["avg_leaf_size"].get<double>());
   EXPECT_LE(jb["max_leaf_size"].get<int>(), 4);
+  EXPECT_LE(jb["leaves"].get<size_t>(), ja["leaves"].get<size_t>());
+  EXPECT_LT(ja["leaves"].get<size_t>(), jc["leaves"].get<size_t>());
+  EXPECT_EQ(jd["tree_hash"], ja["tree_hash"]);  // 4 : 2 is 2 : 1
 }
 
 TEST_F(CmdBuild, BadInputExitsTwo) {
