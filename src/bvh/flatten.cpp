@@ -37,19 +37,13 @@ void gather_range(const BuildTree& tree, const PrimInfo& prims, const Scene& sce
     if (!leaf.is_leaf()) continue;
     if (size_t(leaf.first) + leaf.count > tree.prim_order.size())
       throw std::invalid_argument("flatten: leaf range past prim_order");
-    float* block =
-        kArrays != TriangleArrays::kEdges ? &tris.verts[9 * size_t(leaf.first)] : nullptr;
-    const size_t rows = leaf.count;
-    for (uint32_t k = 0; k < leaf.count; ++k) {
-      const uint32_t j = leaf.first + k;
+    const LeafRange block = LeafRange::whole(leaf.first, leaf.count);
+    for (uint32_t j = leaf.first; j < leaf.first + leaf.count; ++j) {
       const PrimRef ref = prims.refs[tree.prim_order[j]];
       const TriangleMesh& mesh = scene.meshes[ref.geom_id];
       const Vec3u& t = mesh.triangles[ref.prim_id];
       const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
-      if constexpr (kArrays != TriangleArrays::kEdges) {
-        const float v[9] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
-        for (int r = 0; r < 9; ++r) block[r * rows + k] = v[r];
-      }
+      if constexpr (kArrays != TriangleArrays::kEdges) tris.set_triangle(block, j, a, b, c);
       if constexpr (kArrays != TriangleArrays::kVerts)
         tris.edges[j] = TriangleEdges{a, b - a, c - a};
       tris.refs[j] = ref;

@@ -81,6 +81,7 @@ struct LeafTriangles {
     const size_t s = leaf.block_count;
     return {{p[0], p[s], p[2 * s]}, {p[3 * s], p[4 * s], p[5 * s]}, {p[6 * s], p[7 * s], p[8 * s]}};
   }
+  // Writes triangle i of `leaf`'s block (gather, refit).
   void set_triangle(const LeafRange& leaf, uint32_t i, const Vec3f& a, const Vec3f& b,
                     const Vec3f& c) {
     float* p = verts.data() + 9 * size_t(leaf.block_first) + (i - leaf.block_first);

@@ -40,14 +40,6 @@ struct Partial {
 // (x, y, z, 0) without reading past v.
 inline __m128 load3(const Vec3f& v) { return _mm_setr_ps(v.x, v.y, v.z, 0.0f); }
 
-// Triangle k of a verts block of `rows` triangles starting at `block`
-// (leaf_triangles.h): its nine coordinates, one per row.
-inline void store_verts(float* block, size_t rows, uint32_t k, const Vec3f& a, const Vec3f& b,
-                        const Vec3f& c) {
-  const float v[9] = {a.x, a.y, a.z, b.x, b.y, b.z, c.x, c.y, c.z};
-  for (int r = 0; r < 9; ++r) block[r * rows + k] = v[r];
-}
-
 // nonzero_area(a, b, c) of three (x, y, z, _) vectors: the same exact
 // answer (products of floats are exact in double), four lanes at once.
 inline bool nonzero_area(__m128 a, __m128 b, __m128 c) {
@@ -76,8 +68,6 @@ inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* 
                           const LeafRange& leaf) {
   Partial p;
   VecBox box;  // min / max are exact: the same box as AABB::extend, in vector registers
-  float* block =
-      kWrite != RefitTriangles::kEdges ? &tris.verts[9 * size_t(leaf.block_first)] : nullptr;
   for (uint32_t j = leaf.first; j < leaf.first + leaf.count; ++j) {
     const PrimRef ref = tris.refs[j];
     const TriangleMesh& mesh = scene.meshes[ref.geom_id];
@@ -85,8 +75,7 @@ inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* 
     const Vec3f a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
     const Vec3f e1 = b - a, e2 = c - a;
     const __m128 va = load3(a), vb = load3(b), vc = load3(c);
-    if constexpr (kWrite != RefitTriangles::kEdges)
-      store_verts(block, leaf.block_count, j - leaf.block_first, a, b, c);
+    if constexpr (kWrite != RefitTriangles::kEdges) tris.set_triangle(leaf, j, a, b, c);
     if constexpr (kWrite != RefitTriangles::kVerts) tris.edges[j] = TriangleEdges{a, e1, e2};
     // All nine coordinates finite: then 0 * each is 0 (inf and NaN give NaN).
     const __m128 zero = _mm_setzero_ps();
