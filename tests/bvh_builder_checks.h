@@ -115,7 +115,7 @@ inline void check_empty_and_single(BuilderFn build) {
   EXPECT_TRUE(t1.nodes[0].is_leaf());
   EXPECT_EQ(t1.nodes[0].count, 1u);
   EXPECT_EQ(t1.nodes[0].bounds, one.bounds[0]);
-  EXPECT_EQ(t1.prim_order, std::vector<uint32_t>{0});
+  EXPECT_EQ(t1.prim_order, PrimOrder{0});
 }
 
 inline void check_bad_options(BuilderFn build) {

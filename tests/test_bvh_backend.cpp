@@ -184,9 +184,10 @@ TEST(BvhBackend, OneAndTwoThreadsIdentical) {
   }
 }
 
-// update()'s rebuild computes the tree statistics beside the flattening
-// (build() after it): same statistics, hash and answers as a fresh build of
-// the moved scene, for both SAH and Morton trees, at 2 threads.
+// update()'s rebuild (with full_stats_on_update, the tree statistics beside
+// the flattening; build() after it): same statistics, hash and answers as a
+// fresh build of the moved scene, for both SAH and Morton trees, at 2
+// threads. Without the option it reports the same SAH cost and counts.
 TEST(BvhBackend, RebuildingUpdateEqualsAFreshBuild) {
   const Scene scene = scene_of({test::random_soup(6000, 12, 0.03f), test::icosphere(3)});
   Scene moved = scene;
@@ -199,12 +200,23 @@ TEST(BvhBackend, RebuildingUpdateEqualsAFreshBuild) {
     o.build.parallel_cutoff = 256;  // parallel tasks even on this small scene
     o.update = UpdateStrategy::kRebuild;
     run_with_threads(2, [&] {
+      BackendOptions light = o;
+      o.full_stats_on_update = true;
       auto updated = make_intersector("bvh", o);
       updated->build(scene);
       updated->update(moved);
       auto fresh = make_intersector("bvh", o);
       fresh->build(moved);
       const Answers a = ask(*updated, rays), b = ask(*fresh, rays);
+      auto quick = make_intersector("bvh", light);
+      quick->build(scene);
+      quick->update(moved);
+      const TreeStats q = quick->info().stats;
+      EXPECT_NEAR(q.sah_cost, b.info.stats.sah_cost, 1e-9 * b.info.stats.sah_cost);
+      EXPECT_EQ(q.nodes, b.info.stats.nodes);
+      EXPECT_EQ(q.triangles, b.info.stats.triangles);
+      EXPECT_EQ(q.tree_hash, 0u);
+      EXPECT_EQ(q.depth, 0);
       EXPECT_TRUE(a.info.rebuilt);
       EXPECT_EQ(a.info.stats.tree_hash, b.info.stats.tree_hash) << to_string(builder);
       EXPECT_EQ(a.info.stats.sah_cost, b.info.stats.sah_cost);
@@ -219,6 +231,32 @@ TEST(BvhBackend, RebuildingUpdateEqualsAFreshBuild) {
       return 0;
     });
   }
+}
+
+// An animated scene will be updated: its build() keeps the freed arrays for
+// the first rebuild already (no fresh pages on the first frame), and the
+// rebuild over them answers as a fresh build.
+TEST(BvhBackend, AnimatedSceneKeepsItsBuildArrays) {
+  Scene scene = scene_of({test::random_soup(100000, 4, 0.01f)});
+  DeformerSpec wave;
+  wave.mesh = 0;
+  wave.kind = "wave";
+  scene.animation.deformers.push_back(wave);
+  ASSERT_TRUE(scene.animation.animated());
+  ASSERT_EQ(huge_buffer_cache_bytes(), 0u);
+  BackendOptions o;
+  o.build.builder = BuilderKind::kMorton;
+  o.update = UpdateStrategy::kRebuild;
+  o.full_stats_on_update = true;
+  {
+    auto isect = make_intersector("bvh", o);
+    isect->build(scene);
+    EXPECT_GT(huge_buffer_cache_bytes(), 0u);
+    const uint64_t built = isect->info().stats.tree_hash;
+    isect->update(scene);
+    EXPECT_EQ(isect->info().stats.tree_hash, built);
+  }
+  EXPECT_EQ(huge_buffer_cache_bytes(), 0u);
 }
 
 // The freed build arrays are cached (for the next rebuild) only while a
@@ -239,6 +277,7 @@ TEST(BvhBackend, KeepsBuildArraysOnlyForUpdatesAndRebuildsOverThemExactly) {
       o.build.builder = builder;
       o.layout = layout;
       o.update = UpdateStrategy::kRebuild;
+      o.full_stats_on_update = true;  // the hash below
       {
         auto isect = make_intersector("bvh", o);
         isect->build(scene);

@@ -138,20 +138,27 @@ class BvhIntersector final : public Intersector {
     info_.has_tree_stats = true;
   }
 
-  void build(const Scene& scene) override { info_.build_ms = rebuild(scene, false); }
+  // An animated scene (Scene::animation) will be updated: its build's freed
+  // arrays are kept for the first rebuild already, as update() keeps them
+  // (the embree backend makes such a scene RTC_SCENE_FLAG_DYNAMIC).
+  void build(const Scene& scene) override {
+    if (scene.animation.animated() && !retain_buffers_) retain_buffers_.emplace();
+    info_.build_ms = rebuild(scene, StatsPass::kAfter);
+  }
 
   // The caller moved vertices (same meshes, triangle indices and counts).
   // Whatever the strategy, a change of the set of valid triangles (one became
   // degenerate or non-finite, or valid again) or of the mesh layout forces a
   // rebuild: the tree only holds the triangles that were valid at its build.
-  // After a refit, info().stats has the refitted sah_cost; the topology
-  // figures (nodes, leaves, depth, leaf sizes, triangle counts) are those of
-  // the last rebuild and still true, and tree_hash is the last rebuild's.
+  // After a refit, info().stats has the refitted sah_cost; the other
+  // figures are those of the last rebuild and still true. A rebuild here
+  // reports sah_cost, nodes and the triangle counts, and the other figures
+  // (tree_hash and the leaf and depth figures; zero without them) only with
+  // BackendOptions::full_stats_on_update, computed beside the flattening.
   // A refit allocates nothing: it rewrites the existing nodes and triangles.
-  // build_ms: the whole update (checks, refit, rebuild); a rebuild here
-  // computes the tree statistics beside the flattening, so they count where
-  // they outlast it (build() leaves them out). From the first update on, the
-  // backend keeps the freed build arrays for the next rebuild (huge_buffer.h).
+  // build_ms: the whole update (checks, refit, rebuild). From the first
+  // update on, the backend keeps the freed build arrays for the next rebuild
+  // (huge_buffer.h).
   void update(const Scene& scene) override {
     const auto start = std::chrono::steady_clock::now();
     if (!retain_buffers_) retain_buffers_.emplace();
@@ -159,7 +166,7 @@ class BvhIntersector final : public Intersector {
     double ms = 0.0;
     if (options_.update == UpdateStrategy::kRebuild || !same_layout(scene) ||
         invalid_became_valid(scene)) {
-      ms = ms_since(start) + rebuild(scene, true);
+      ms = ms_since(start) + rebuild(scene, update_stats());
     } else {
       // Only the array this backend's triangle test reads is re-gathered.
       const RefitTriangles write = test_arrays();
@@ -167,7 +174,7 @@ class BvhIntersector final : public Intersector {
           with_layout(*this, [&](auto& bvh) { return refit(bvh, scene, write, &refit_index_); });
       if (!r.valid || (options_.update == UpdateStrategy::kAdaptive &&
                        r.sah_cost > double(options_.adaptive_factor) * rebuild_sah_cost_)) {
-        ms = ms_since(start) + rebuild(scene, true);
+        ms = ms_since(start) + rebuild(scene, update_stats());
       } else {
         info_.stats.sah_cost = r.sah_cost;
         rebuilt = false;
@@ -203,12 +210,18 @@ class BvhIntersector final : public Intersector {
   BuildInfo info() const override { return info_; }
 
  private:
+  // When a rebuild computes the full tree statistics (compute_tree_stats):
+  // after the timed part, as a task beside the flattening (counted where it
+  // outlasts it; on 1 thread in full), or not (TreeStats' counts and
+  // sah_cost only, which the build has anyway).
+  enum class StatsPass { kAfter, kBeside, kNone };
+  StatsPass update_stats() const {
+    return options_.full_stats_on_update ? StatsPass::kBeside : StatsPass::kNone;
+  }
+
   // Full build; returns its ms: prim info + build + flatten + what update()
-  // needs later (layout record, refit index, the new tree's SAH cost). The
-  // tree statistics and hash (for reporting only) are computed after that,
-  // or, with `overlap_stats`, as a task beside the flattening (on 1 thread
-  // they then count in full).
-  double rebuild(const Scene& scene, bool overlap_stats) {
+  // needs later (layout record, refit index, the new tree's SAH cost).
+  double rebuild(const Scene& scene, StatsPass stats_pass) {
     const auto start = std::chrono::steady_clock::now();
     const PrimInfo prims = make_prim_info(scene);
     const BuildTree tree = build_tree(prims, options_.build);
@@ -241,13 +254,24 @@ class BvhIntersector final : public Intersector {
     };
     TreeStats stats;
     double ms = 0.0;
-    if (overlap_stats) {
-      tbb::parallel_invoke(make_layout, [&] { stats = compute_tree_stats(tree, prims); });
-      ms = ms_since(start);
-    } else {
-      make_layout();
-      ms = ms_since(start);
-      stats = compute_tree_stats(tree, prims);
+    switch (stats_pass) {
+      case StatsPass::kBeside:
+        tbb::parallel_invoke(make_layout, [&] { stats = compute_tree_stats(tree, prims); });
+        ms = ms_since(start);
+        break;
+      case StatsPass::kAfter:
+        make_layout();
+        ms = ms_since(start);
+        stats = compute_tree_stats(tree, prims);
+        break;
+      case StatsPass::kNone:
+        make_layout();
+        ms = ms_since(start);
+        stats.triangles = prims.size();
+        stats.invalid_triangles = prims.invalid;
+        stats.nodes = tree.nodes.size();
+        stats.sah_cost = rebuild_sah_cost_;
+        break;
     }
     info_.stats = stats;
     info_.rebuilt = true;

@@ -37,6 +37,10 @@ struct BackendOptions {
   // deformable scenes
   UpdateStrategy update = UpdateStrategy::kAdaptive;
   float adaptive_factor = 1.3f;  // rebuild when SAH cost exceeds factor x cost at last rebuild
+  // An update()'s rebuild reports sah_cost, nodes and triangle counts; the
+  // rest of TreeStats (leaves, depth, leaf sizes, tree_hash: a pass over the
+  // whole tree that only reports) only with this set. build() reports all.
+  bool full_stats_on_update = false;
 };
 
 struct BuildInfo {

@@ -68,7 +68,7 @@ class BinnedSubtreeBuilder {
   // Appends the subtree over refs[side][begin, end) to `out` in canonical
   // preorder, with `right` links relative to out's start and leaf `first` absolute.
   void build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
-             const AABB& centroid_bounds, std::vector<BuildNode>& out);
+             const AABB& centroid_bounds, BuildNodes& out);
 
  private:
   void recurse(size_t begin, size_t end, int side, int depth, const AABB& bounds,
@@ -77,7 +77,7 @@ class BinnedSubtreeBuilder {
   const BuildOptions& options_;
   BoxRef* refs_[2];
   uint32_t* order_;
-  std::vector<BuildNode>* out_ = nullptr;
+  BuildNodes* out_ = nullptr;
   size_t base_ = 0;
   Bins bins_, spare_;
   std::vector<float> scratch_area_;

@@ -1,9 +1,10 @@
 // The top of a tree built by parallel tasks (builder_parallel, builder_morton):
 // each task returns a Part, either one node with two child parts or a subtree
-// built sequentially into its own preorder node vector (right children
-// relative to that vector, leaf ranges already final). place_parts stitches
-// them into the canonical preorder of build_tree.h from the parts' sizes, so
-// the tree never depends on which thread built what.
+// built sequentially in preorder (right children relative to its first node,
+// leaf ranges already final), into the part's own vector or a slice of the
+// builder's scratch array. place_parts stitches them into the canonical
+// preorder of build_tree.h from the parts' sizes, so the tree never depends
+// on which thread built what.
 #pragma once
 
 #include <tbb/parallel_invoke.h>
@@ -11,6 +12,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <span>
 #include <vector>
 
 #include "bvh/build_tree.h"
@@ -21,8 +23,9 @@ namespace hprt {
 struct Part {
   BuildNode node;
   std::unique_ptr<Part> left, right;
-  std::vector<BuildNode> subtree;  // non-empty: this part is a finished subtree
-  size_t total = 0;                // nodes in this part
+  std::span<const BuildNode> subtree;  // non-empty: this part is a finished subtree
+  BuildNodes own;                      // the subtree's nodes, where the part holds them
+  size_t total = 0;                    // nodes in this part
 
   const AABB& bounds() const { return subtree.empty() ? node.bounds : subtree.front().bounds; }
 };

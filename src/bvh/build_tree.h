@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "bvh/huge_buffer.h"
 #include "core/aabb.h"
 
 namespace hprt {
@@ -26,9 +27,13 @@ struct BuildNode {
   bool operator==(const BuildNode&) const = default;
 };
 
+// Large ones from the buffer cache (huge_buffer.h), reused by the next rebuild.
+using BuildNodes = std::vector<BuildNode, CacheAlignedAllocator<BuildNode>>;
+using PrimOrder = std::vector<uint32_t, CacheAlignedAllocator<uint32_t>>;
+
 struct BuildTree {
-  std::vector<BuildNode> nodes;
-  std::vector<uint32_t> prim_order;
+  BuildNodes nodes;
+  PrimOrder prim_order;
   bool operator==(const BuildTree&) const = default;
 };
 

@@ -24,7 +24,7 @@ BinnedSubtreeBuilder::BinnedSubtreeBuilder(const BuildOptions& options, BoxRef* 
       spare_(options.bins) {}
 
 void BinnedSubtreeBuilder::build(size_t begin, size_t end, int side, int depth, const AABB& bounds,
-                                 const AABB& centroid_bounds, std::vector<BuildNode>& out) {
+                                 const AABB& centroid_bounds, BuildNodes& out) {
   out_ = &out;
   base_ = out.size();
   recurse(begin, end, side, depth, bounds, centroid_bounds);

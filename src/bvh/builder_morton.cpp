@@ -81,18 +81,24 @@ void radix_pass(const uint64_t* src, uint64_t* dst, size_t n, int shift) {
   });
 }
 
+// A sequential subtree over sorted range [begin, end) is written at
+// scratch[2 * begin]: it has at most 2 (end - begin) - 1 nodes, so the
+// subtrees of disjoint ranges never overlap, and one scratch array (from the
+// buffer cache, reused by the next rebuild) serves every task.
 class MortonBuilder {
  public:
-  MortonBuilder(const BuildOptions& o, const uint64_t* keys, const AABB* boxes)
-      : o_(o), keys_(keys), boxes_(boxes) {}
+  MortonBuilder(const BuildOptions& o, const uint64_t* keys, const AABB* boxes, BuildNode* scratch)
+      : o_(o), keys_(keys), boxes_(boxes), scratch_(scratch) {}
 
   std::unique_ptr<Part> build(size_t begin, size_t end, int depth) const {
     auto part = std::make_unique<Part>();
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff) || is_leaf(n)) {
-      part->subtree.reserve(2 * n - 1);
-      emit(begin, end, depth, part->subtree);
-      part->total = part->subtree.size();
+      BuildNode* out = scratch_ + 2 * begin;
+      size_t count = 0;
+      emit(begin, end, depth, out, count);
+      part->subtree = std::span<const BuildNode>(out, count);
+      part->total = count;
       return part;
     }
     const size_t mid = split(begin, end, depth);
@@ -110,22 +116,21 @@ class MortonBuilder {
   uint32_t code(size_t i) const { return uint32_t(keys_[i] >> kCodeShift); }
   const AABB& box(size_t i) const { return boxes_[uint32_t(keys_[i])]; }
 
-  // Sequential subtree of [begin, end) appended in preorder to `out`, which
-  // starts with the subtree's root (right children are indices into `out`).
-  // Returns its bounds.
-  AABB emit(size_t begin, size_t end, int depth, std::vector<BuildNode>& out) const {
-    const size_t self = out.size();
+  // Sequential subtree of [begin, end) appended in preorder to out[count...],
+  // where out[0] is the subtree's root (right children are indices into
+  // `out`). Returns its bounds.
+  AABB emit(size_t begin, size_t end, int depth, BuildNode* out, size_t& count) const {
+    const size_t self = count++;
     if (is_leaf(end - begin)) {
       AABB box;
       for (size_t i = begin; i < end; ++i) box.extend(this->box(i));
-      out.push_back(make_leaf(box, begin, end - begin));
+      out[self] = make_leaf(box, begin, end - begin);
       return box;
     }
-    out.emplace_back();
     const size_t mid = split(begin, end, depth);
-    AABB box = emit(begin, mid, depth + 1, out);
-    const uint32_t right = static_cast<uint32_t>(out.size());
-    box.extend(emit(mid, end, depth + 1, out));
+    AABB box = emit(begin, mid, depth + 1, out, count);
+    const uint32_t right = static_cast<uint32_t>(count);
+    box.extend(emit(mid, end, depth + 1, out, count));
     out[self] = make_inner(box);
     out[self].right = right;
     return box;
@@ -150,6 +155,7 @@ class MortonBuilder {
   const BuildOptions& o_;
   const uint64_t* keys_;  // sorted
   const AABB* boxes_;     // PrimInfo::bounds, indexed by a key's low 32 bits
+  BuildNode* scratch_;    // 2 n nodes
 };
 
 }  // namespace
@@ -186,7 +192,8 @@ BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options) {
                       for (size_t i = r.begin(); i != r.end(); ++i)
                         tree.prim_order[i] = static_cast<uint32_t>(sorted[i]);
                     });
-  const MortonBuilder builder(options, sorted, prims.bounds.data());
+  const auto scratch = make_huge_buffer<BuildNode>(2 * n);
+  const MortonBuilder builder(options, sorted, prims.bounds.data(), scratch.get());
   place_parts(*builder.build(0, n, 1), tree);
   return tree;
 }

@@ -66,10 +66,11 @@ class ParallelBuilder {
       // need (2n - 1), so it never grows; the heap recycles these arrays
       // from build to build, where one large scratch array would be fresh
       // memory (page faults) every time.
-      part->subtree.reserve(2 * n - 1);
+      part->own.reserve(2 * n - 1);
       BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
-      seq.build(begin, end, side, depth, bounds, cbounds, part->subtree);
-      part->total = part->subtree.size();
+      seq.build(begin, end, side, depth, bounds, cbounds, part->own);
+      part->subtree = part->own;
+      part->total = part->own.size();
       return part;
     }
     const BoxRef* src = refs_[side] + begin;

@@ -83,4 +83,35 @@ HugeBuffer<T> make_huge_buffer(size_t n) {
   return HugeBuffer<T>(static_cast<T*>(p));
 }
 
+// Allocator for node arrays (build trees and traversal layouts): 64-byte
+// (cache-line) aligned storage; arrays of 2 MiB or more are 2 MiB aligned and
+// advised as transparent huge pages, like the triangle arrays (BuildArray):
+// the bottom levels of a large tree are read at random, and with 4 KiB pages
+// nearly every such read also missed the TLB. Those come from the buffer
+// cache above, reused across rebuilds (from malloc, each rebuild's were fresh
+// pages whenever glibc served them by mmap).
+template <typename T>
+struct CacheAlignedAllocator {
+  using value_type = T;
+  static constexpr std::size_t kAlign = 64;
+  CacheAlignedAllocator() = default;
+  template <typename U>
+  constexpr CacheAlignedAllocator(const CacheAlignedAllocator<U>&) noexcept {}
+  T* allocate(std::size_t n) {
+    const std::size_t bytes = n * sizeof(T);
+    if (bytes < kHugePage) return static_cast<T*>(::operator new(bytes, std::align_val_t(kAlign)));
+    return static_cast<T*>(acquire_huge_buffer(bytes));
+  }
+  void deallocate(T* p, std::size_t n) noexcept {
+    if (n * sizeof(T) < kHugePage)
+      ::operator delete(p, std::align_val_t(kAlign));
+    else
+      release_huge_buffer(p);
+  }
+  template <typename U>
+  bool operator==(const CacheAlignedAllocator<U>&) const noexcept {
+    return true;
+  }
+};
+
 }  // namespace hprt
