@@ -7,6 +7,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <xmmintrin.h>
 
 #include <stdexcept>
 #include <utility>
@@ -24,9 +25,32 @@ BinaryNode to_flat(const BuildNode& b) {
   return n;
 }
 
-}  // namespace
+// Each leaf-order triangle's data is three dependent reads at random (its
+// ref, its vertex indices, its vertices): each is prefetched a few triangles
+// before it is needed, once the read before it has been prefetched too
+// (~20 % less gather time on an exploding 1M-triangle torus, Morton tree).
+// Always inlined: GCC deletes a call whose only effects are prefetches.
+constexpr size_t kAhead = 8;
+[[gnu::always_inline]] inline void prefetch_ahead(const BuildTree& tree, const PrimInfo& prims,
+                                                  const Scene& scene, size_t j) {
+  const size_t n = tree.prim_order.size();
+  if (j + 3 * kAhead < n)
+    _mm_prefetch(reinterpret_cast<const char*>(&prims.refs[tree.prim_order[j + 3 * kAhead]]),
+                 _MM_HINT_T0);
+  if (j + 2 * kAhead < n) {
+    const PrimRef r = prims.refs[tree.prim_order[j + 2 * kAhead]];
+    _mm_prefetch(reinterpret_cast<const char*>(&scene.meshes[r.geom_id].triangles[r.prim_id]),
+                 _MM_HINT_T0);
+  }
+  if (j + kAhead < n) {
+    const PrimRef r = prims.refs[tree.prim_order[j + kAhead]];
+    const TriangleMesh& mesh = scene.meshes[r.geom_id];
+    const Vec3u& t = mesh.triangles[r.prim_id];
+    for (int k = 0; k < 3; ++k)
+      _mm_prefetch(reinterpret_cast<const char*>(&mesh.positions[t[k]]), _MM_HINT_T0);
+  }
+}
 
-namespace {
 // The triangles of the build tree's leaves among nodes [begin, end), each
 // leaf one verts block.
 template <TriangleArrays kArrays>
@@ -39,6 +63,7 @@ void gather_range(const BuildTree& tree, const PrimInfo& prims, const Scene& sce
       throw std::invalid_argument("flatten: leaf range past prim_order");
     const LeafRange block = LeafRange::whole(leaf.first, leaf.count);
     for (uint32_t j = leaf.first; j < leaf.first + leaf.count; ++j) {
+      prefetch_ahead(tree, prims, scene, j);
       const PrimRef ref = prims.refs[tree.prim_order[j]];
       const TriangleMesh& mesh = scene.meshes[ref.geom_id];
       const Vec3u& t = mesh.triangles[ref.prim_id];
