@@ -59,19 +59,6 @@ inline bool nonzero_area(__m128 a, __m128 b, __m128 c) {
 #endif
 }
 
-// The vertices of leaf-order triangle j: leaves are refitted in about leaf
-// order, and in a tree's leaf order the vertex reads jump about the mesh,
-// each a cache miss that the loop would otherwise wait for (explode, 1M
-// triangles, Morton tree: refit ~15 -> ~12 ms at 2 threads). Always inlined:
-// GCC deletes a call whose only effects are prefetches.
-constexpr size_t kPrefetchAhead = 8;
-[[gnu::always_inline]] inline void prefetch_vertices(const LeafTriangles& tris, const Scene& scene,
-                                                     const Vec3u* index, size_t j) {
-  const Vec3f* pos = scene.meshes[tris.refs[j].geom_id].positions.data();
-  const Vec3u t = index[j];
-  for (int k = 0; k < 3; ++k) _mm_prefetch(reinterpret_cast<const char*>(pos + t[k]), _MM_HINT_T0);
-}
-
 // Gathers the leaf's triangles into leaf order and bounds them; `valid` is
 // TriangleMesh::triangle_valid on the gathered vertices (finite, and
 // nonzero_area: exact, so a triangle the builder kept is valid here exactly
@@ -81,10 +68,7 @@ inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* 
                           const LeafRange& leaf) {
   Partial p;
   VecBox box;  // min / max are exact: the same box as AABB::extend, in vector registers
-  const size_t total = tris.size();
   for (uint32_t j = leaf.first; j < leaf.first + leaf.count; ++j) {
-    if (index && j + kPrefetchAhead < total)
-      prefetch_vertices(tris, scene, index, j + kPrefetchAhead);
     const PrimRef ref = tris.refs[j];
     const TriangleMesh& mesh = scene.meshes[ref.geom_id];
     const Vec3u t = index ? index[j] : mesh.triangles[ref.prim_id];
