@@ -39,8 +39,11 @@ inline void advise_huge_pages(void* p, size_t bytes) {
 
 // A 2 MiB aligned buffer of at least `bytes` (>= kHugePage): a cached one of
 // a close capacity, else a fresh one, huge-page advised. Give it back with
-// release_huge_buffer.
-void* acquire_huge_buffer(size_t bytes);
+// release_huge_buffer. `sparse`: the caller touches only parts of it (a
+// bound, not a size), so a fresh one is advised only while retaining, when
+// its pages are faulted once for many rebuilds; a one-off build then faults
+// only the 4 KiB pages it touches instead of zeroing whole 2 MiB ones.
+void* acquire_huge_buffer(size_t bytes, bool sparse = false);
 // Caches the buffer while a HugeBufferRetention lives (the oldest cached ones
 // are freed past the cache's bounds), else frees it.
 void release_huge_buffer(void* p) noexcept;
@@ -71,12 +74,12 @@ template <typename T>
 using HugeBuffer = std::unique_ptr<T[], HugeDeleter>;
 
 template <typename T>
-HugeBuffer<T> make_huge_buffer(size_t n) {
+HugeBuffer<T> make_huge_buffer(size_t n, bool sparse = false) {
   static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
   static_assert(alignof(T) <= kHugePage);
   const size_t bytes = n * sizeof(T);
   if (bytes >= kHugePage)
-    return HugeBuffer<T>(static_cast<T*>(acquire_huge_buffer(bytes)), HugeDeleter{true});
+    return HugeBuffer<T>(static_cast<T*>(acquire_huge_buffer(bytes, sparse)), HugeDeleter{true});
   const size_t align = alignof(T) < 16 ? 16 : alignof(T);
   void* p = std::aligned_alloc(align, (bytes + align - 1) / align * align);
   if (!p) throw std::bad_alloc();

@@ -79,7 +79,7 @@ Cache& cache() {
 
 }  // namespace
 
-void* acquire_huge_buffer(size_t bytes) {
+void* acquire_huge_buffer(size_t bytes, bool sparse) {
   const size_t need = (bytes + kHugePage - 1) / kHugePage * kHugePage;
   Cache& c = cache();
   bool retaining = false;
@@ -111,7 +111,7 @@ void* acquire_huge_buffer(size_t bytes) {
   if (!serves(capacity, need)) capacity = need;
   void* p = std::aligned_alloc(kHugePage, capacity);
   if (!p) throw std::bad_alloc();
-  advise_huge_pages(p, retaining ? capacity : bytes);
+  if (retaining || !sparse) advise_huge_pages(p, retaining ? capacity : bytes);
   try {
     const std::lock_guard lock(c.mutex);
     c.out[p] = capacity;
