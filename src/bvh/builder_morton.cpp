@@ -160,8 +160,8 @@ class MortonBuilder {
     return hi;
   }
 
-  const BuildOptions& o_;
   static constexpr size_t kPrefetchAhead = 16;
+  const BuildOptions& o_;
   const uint64_t* keys_;  // sorted
   size_t n_;
   const AABB* boxes_;   // PrimInfo::bounds, indexed by a key's low 32 bits

@@ -63,9 +63,10 @@ class ParallelBuilder {
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff)) {
       // Built into its own array, sized for the most nodes n primitives can
-      // need (2n - 1), so it never grows; the heap recycles these arrays
-      // from build to build, where one large scratch array would be fresh
-      // memory (page faults) every time.
+      // need (2n - 1), so it never grows. From malloc: recycled from build to
+      // build only while glibc serves them from its heap (its mmap threshold
+      // rises once large blocks are freed), else fresh pages each time; the
+      // Morton builder's one cached scratch array avoids that (build_parts.h).
       part->own.reserve(2 * n - 1);
       BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
       seq.build(begin, end, side, depth, bounds, cbounds, part->own);

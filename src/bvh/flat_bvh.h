@@ -5,8 +5,6 @@
 #pragma once
 
 #include <cstddef>
-#include <cstdlib>
-#include <new>
 #include <vector>
 
 #include "bvh/huge_buffer.h"
