@@ -1,8 +1,9 @@
 // Packet traversal (bvh/traverse_packet.h) answers every ray exactly as the
-// single-ray traversal of the same layout (bvh2, bvh4, bvh8) does: same hit or miss, same t, u, v
-// and ids bit for bit, same occlusion, for coherent and incoherent packets, mixed octants,
-// axis-parallel rays with ±0 components, per-lane intervals and origins on
-// the surface. The watertight test on lanes (over the rays of a packet, or
+// single-ray traversal of the same layout (bvh2, bvh4, bvh8) does: same hit or
+// miss, same t, u, v and ids bit for bit, same occlusion, for coherent and
+// incoherent packets, mixed octants, axis-parallel rays with ±0 components,
+// per-lane intervals and origins on the surface; the frustum culls no child a
+// lane enters. The watertight test on lanes (over the rays of a packet, or
 // over the triangles of a leaf) equals the scalar one bit for bit.
 #include <gtest/gtest.h>
 
@@ -154,6 +155,92 @@ TEST(TraversePacket, HardLanesMatchSingleRays) {
   expect_packets_match_single<WatertightTest>(b.bvh, rays, "hard bvh2");
   expect_packets_match_single<MollerTest>(b.bvh, limited, "limited bvh2 mt");
   expect_packets_match_single<WatertightTest>(b.bvh, on_surface, "on surface bvh2");
+}
+
+// Packets whose lanes share direction signs are culled against their
+// frustum before the lane test. The frustum keeps every child that any lane's
+// own box test enters, at every node of bvh8 and bvh4, for packets that stress
+// its bounds: origins on the box planes, spread over the whole scene or all
+// in one point, direction components from 1e-20 to 1e18 (reciprocals up to
+// 1e20), per-lane intervals from empty to unbounded; and such packets
+// answer as their rays traced one by one.
+template <int N>
+size_t expect_frustum_keeps_lane_hits(const WideBvh<N>& w, const std::vector<Ray>& rays) {
+  const detail::PacketNodes<WideBvh<N>> layout{w};
+  size_t culled = 0;
+  for (size_t g = 0; g + kPacketSize <= rays.size(); g += kPacketSize) {
+    const detail::RayPacket<WatertightTest> packet(&rays[g]);
+    EXPECT_TRUE(packet.frustum) << "packet " << g / kPacketSize;
+    const __m512 tfar = _mm512_load_ps(packet.tfar_lane);
+    const float tfar_max = detail::reduce_max16(tfar);
+    for (uint32_t n = 0; n < w.nodes.size(); ++n) {
+      const unsigned slots = layout.frustum_slots(NodeRef::inner(n), packet, tfar_max);
+      for (int i = 0; i < N && !w.nodes[n].child[i].empty(); ++i) {
+        __m512 entry;
+        const __mmask16 lanes =
+            detail::slab_packet(packet, detail::WideSlot<N>{w.nodes[n], i}, tfar, 0xFFFF, entry);
+        if (lanes) {
+          EXPECT_TRUE(slots >> i & 1u) << "node " << n << " slot " << i;
+        }
+        culled += !(slots >> i & 1u);
+      }
+    }
+  }
+  return culled;
+}
+
+TEST(TraversePacket, FrustumKeepsEveryChildALaneEnters) {
+  const test::BuiltBvh b =
+      test::build_flat({test::grid(24, 24), test::icosphere(2)}, BuildOptions{});
+  const WideBvh<8> w8 = flatten_wide<8>(b.tree, b.prims, b.scene);
+  const WideBvh<4> w4 = flatten_wide<4>(b.tree, b.prims, b.scene);
+  const AABB box = b.scene.bounds();
+  // Box planes of the tree's nodes, as origin coordinates.
+  std::vector<float> planes[3];
+  for (const WideNode<8>& node : w8.nodes)
+    for (int i = 0; i < 8 && !node.child[i].empty(); ++i)
+      for (int a = 0; a < 3; ++a) {
+        planes[a].push_back(node.bounds[2 * a][i]);
+        planes[a].push_back(node.bounds[2 * a + 1][i]);
+      }
+  test::Rng rng(31);
+  const auto pick = [&](const std::vector<float>& v) { return v[rng.next() % v.size()]; };
+  std::vector<Ray> rays;
+  for (int p = 0; p < 96; ++p) {
+    const int octant = p % 8, kind = p / 8 % 4;
+    const Vec3f eye = box.min + (box.max - box.min) * Vec3f(rng.uniform(), rng.uniform(), 2.0f);
+    for (int l = 0; l < kPacketSize; ++l) {
+      Ray r;
+      for (int a = 0; a < 3; ++a) {
+        float d = 0.05f + rng.uniform();
+        if (kind == 1) d = std::pow(10.0f, -20.0f + 38.0f * rng.uniform());  // 1e-20 .. 1e18
+        r.dir[a] = (octant >> a & 1) ? -d : d;
+        r.org[a] = kind == 3 ? eye[a] : pick(planes[a]);
+      }
+      if (kind == 2) r.dir = (box.min + (box.max - box.min) * 0.5f) - r.org;  // through the middle
+      if (kind == 2)
+        for (int a = 0; a < 3; ++a)
+          if (r.dir[a] == 0.0f || std::signbit(r.dir[a]) != bool(octant >> a & 1))
+            r.dir[a] = (octant >> a & 1) ? -1e-3f : 1e-3f;
+      switch (l % 4) {
+        case 0:
+          r.tfar = 0.0f;
+          break;
+        case 1:
+          r.tnear = 0.5f * rng.uniform();
+          r.tfar = r.tnear + rng.uniform();
+          break;
+        default:
+          break;
+      }
+      rays.push_back(r);
+    }
+  }
+  EXPECT_GT(expect_frustum_keeps_lane_hits(w8, rays), 0u);
+  EXPECT_GT(expect_frustum_keeps_lane_hits(w4, rays), 0u);
+  expect_packets_match_single<WatertightTest>(w8, rays, "frustum bvh8");
+  expect_packets_match_single<WatertightTest>(w4, rays, "frustum bvh4");
+  expect_packets_match_single<MollerTest>(w8, rays, "frustum bvh8 mt");
 }
 
 // The 16-lane watertight test against the scalar one, bit for bit: rays

@@ -22,6 +22,18 @@
 // enter is handed to those lanes' rays one by one (traverse_wide_from, with
 // the lane's tfar and closest hit so far), which changes nothing in the answers.
 //
+// Before a wide node's children are tested lane by lane, all of them are
+// tested at once against the packet's frustum (Reshetov, Soupikov & Hurley,
+// "Multi-Level Ray Tracing Algorithm", SIGGRAPH 2005; Embree's
+// intersectNodeFrustum): per axis, bounds on every lane's slab distances
+// from the lanes' extreme origins and padded reciprocals. Rounding is
+// monotone, so each bound is the float value of a lane's own formula at an
+// extreme of its inputs, never nearer (far plane: never farther) than any
+// lane's: a child the frustum culls is one no lane enters, and the answers
+// stay the lane test's. Most children that camera and shadow packets miss
+// are culled so. Used only where every lane has the same direction signs and
+// finite reciprocals.
+//
 // Built only where AVX-512F is available (HPRT_HAS_PACKETS); the backend
 // traces rays one by one elsewhere.
 #pragma once
@@ -31,6 +43,7 @@
 
 #include <immintrin.h>
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <type_traits>
@@ -66,6 +79,40 @@ inline constexpr bool kLeafLanes = false;
 
 namespace detail {
 
+// _mm512_max_ps / _mm512_min_ps without their undefined pass-through operand,
+// which g++ 12 reports as maybe-uninitialized. Per lane `a > b ? a : b` and
+// `a < b ? a : b`: robust_max / robust_min with the slab value first.
+HPRT_FORCE_INLINE __m512 max16(__m512 a, __m512 b) { return _mm512_mask_max_ps(b, 0xFFFF, a, b); }
+HPRT_FORCE_INLINE __m512 min16(__m512 a, __m512 b) { return _mm512_mask_min_ps(b, 0xFFFF, a, b); }
+
+// The smallest of the lanes of `m` (+inf for none), by shuffles (the mask
+// variants, for the same reason as above); the greatest (-inf for none).
+HPRT_FORCE_INLINE float masked_min16(__mmask16 m, __m512 v) {
+  v = _mm512_mask_mov_ps(_mm512_set1_ps(std::numeric_limits<float>::infinity()), m, v);
+  v = min16(v, _mm512_mask_shuffle_f32x4(v, 0xFFFF, v, v, 0x4E));
+  v = min16(v, _mm512_mask_shuffle_f32x4(v, 0xFFFF, v, v, 0xB1));
+  v = min16(v, _mm512_mask_permute_ps(v, 0xFFFF, v, 0x4E));
+  v = min16(v, _mm512_mask_permute_ps(v, 0xFFFF, v, 0xB1));
+  return _mm512_cvtss_f32(v);
+}
+HPRT_FORCE_INLINE float masked_max16(__mmask16 m, __m512 v) {
+  v = _mm512_mask_mov_ps(_mm512_set1_ps(-std::numeric_limits<float>::infinity()), m, v);
+  v = max16(v, _mm512_mask_shuffle_f32x4(v, 0xFFFF, v, v, 0x4E));
+  v = max16(v, _mm512_mask_shuffle_f32x4(v, 0xFFFF, v, v, 0xB1));
+  v = max16(v, _mm512_mask_permute_ps(v, 0xFFFF, v, 0x4E));
+  v = max16(v, _mm512_mask_permute_ps(v, 0xFFFF, v, 0xB1));
+  return _mm512_cvtss_f32(v);
+}
+// The least and the greatest lane.
+HPRT_FORCE_INLINE float reduce_min16(__m512 v) { return masked_min16(0xFFFF, v); }
+HPRT_FORCE_INLINE float reduce_max16(__m512 v) { return masked_max16(0xFFFF, v); }
+
+// _mm512_i32gather_ps without its undefined pass-through operand, which
+// g++ 12 reports as maybe-uninitialized (as max16 above).
+HPRT_FORCE_INLINE __m512 gather16(__m512i offset, const float* base) {
+  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xFFFF, offset, base, 4);
+}
+
 // The packet's rays as lanes: SlabRay's fields, the interval, and each lane's
 // triangle-test state.
 template <typename Test>
@@ -78,7 +125,15 @@ struct RayPacket {
   bool same_octant = false;
   int near_row[3] = {0, 2, 4}, far_row[3] = {1, 3, 5};
   __m512 tnear;
-  float tnear_lane[kPacketSize];
+  alignas(64) float tnear_lane[kPacketSize];
+  alignas(64) float tfar_lane[kPacketSize];  // the rays' tfar, for the traversal to shrink
+  // The frustum (same_octant and finite reciprocals only): per axis the
+  // origin extreme at which the near-plane distances are least and the one
+  // at which the far-plane distances are greatest, the reciprocals' ranges,
+  // and the least tnear.
+  bool frustum = false;
+  float near_org[3], far_org[3], rcp_near_lo[3], rcp_near_hi[3], rcp_far_lo[3], rcp_far_hi[3];
+  float tnear_min = 0.0f;
   typename Test::Prepared prep[kPacketSize];
 
   const Ray* rays;
@@ -89,17 +144,20 @@ struct RayPacket {
   std::conditional_t<kLaneTest, WatertightLanes, bool> lanes{};
 
   HPRT_FORCE_INLINE explicit RayPacket(const Ray* r) : rays(r) {
-    alignas(64) float o[3][kPacketSize], d[3][kPacketSize];
-    for (int l = 0; l < kPacketSize; ++l) {
-      for (int a = 0; a < 3; ++a) {
-        o[a][l] = rays[l].org[a];
-        d[a][l] = rays[l].dir[a];
-      }
-      tnear_lane[l] = rays[l].tnear;
-    }
+    // A Ray is eight floats (org, tnear, dir, tfar): field f of lane l is
+    // float 8 * l + f from the first ray.
+    static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, tnear) == 3 * sizeof(float) &&
+                  offsetof(Ray, dir) == 4 * sizeof(float) &&
+                  offsetof(Ray, tfar) == 7 * sizeof(float));
+    const __m512i lane_offset = _mm512_slli_epi32(
+        _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), 3);
+    const float* field = reinterpret_cast<const float*>(rays);
+    tnear = gather16(lane_offset, field + 3);
+    _mm512_store_ps(tnear_lane, tnear);
+    _mm512_store_ps(tfar_lane, gather16(lane_offset, field + 7));
     for (int a = 0; a < 3; ++a) {
-      const __m512 dir = _mm512_load_ps(d[a]);
-      org[a] = _mm512_load_ps(o[a]);
+      const __m512 dir = gather16(lane_offset, field + 4 + a);
+      org[a] = gather16(lane_offset, field + a);
       const __m512 rcp = _mm512_div_ps(_mm512_set1_ps(1.0f), dir);  // correctly rounded
       rcp_near[a] = _mm512_mul_ps(rcp, _mm512_set1_ps(kSlabNearPad));
       rcp_far[a] = _mm512_mul_ps(rcp, _mm512_set1_ps(kSlabFarPad));
@@ -112,7 +170,32 @@ struct RayPacket {
       near_row[a] = 2 * a + is_neg;
       far_row[a] = 2 * a + 1 - is_neg;
     }
-    tnear = _mm512_loadu_ps(tnear_lane);
+    if (same_octant) setup_frustum();
+  }
+
+  void setup_frustum() {
+    const __m512 inf = _mm512_set1_ps(std::numeric_limits<float>::infinity());
+    for (int a = 0; a < 3; ++a) {
+      // Finite reciprocals: no inf * 0 (NaN) in the bounds, which the lane
+      // test drops for its own lane but the frustum could not.
+      if (_mm512_cmp_ps_mask(_mm512_abs_ps(rcp_near[a]), inf, _CMP_LT_OQ) != 0xFFFF ||
+          _mm512_cmp_ps_mask(_mm512_abs_ps(rcp_far[a]), inf, _CMP_LT_OQ) != 0xFFFF)
+        return;
+    }
+    for (int a = 0; a < 3; ++a) {
+      // plane - org is least at the greatest origin: with a positive
+      // reciprocal the near distance is least there, with a negative one at
+      // the least origin (the far distance greatest the other way round).
+      const float lo = reduce_min16(org[a]), hi = reduce_max16(org[a]);
+      near_org[a] = neg[a] ? lo : hi;
+      far_org[a] = neg[a] ? hi : lo;
+      rcp_near_lo[a] = reduce_min16(rcp_near[a]);
+      rcp_near_hi[a] = reduce_max16(rcp_near[a]);
+      rcp_far_lo[a] = reduce_min16(rcp_far[a]);
+      rcp_far_hi[a] = reduce_max16(rcp_far[a]);
+    }
+    tnear_min = reduce_min16(tnear);
+    frustum = true;
   }
 
   // Triangle-test state for the lanes of `lanes`: most rays of a packet that
@@ -128,23 +211,6 @@ struct RayPacket {
     prepared |= wanted;
   }
 };
-
-// _mm512_max_ps / _mm512_min_ps without their undefined pass-through operand,
-// which g++ 12 reports as maybe-uninitialized. Per lane `a > b ? a : b` and
-// `a < b ? a : b`: robust_max / robust_min with the slab value first.
-HPRT_FORCE_INLINE __m512 max16(__m512 a, __m512 b) { return _mm512_mask_max_ps(b, 0xFFFF, a, b); }
-HPRT_FORCE_INLINE __m512 min16(__m512 a, __m512 b) { return _mm512_mask_min_ps(b, 0xFFFF, a, b); }
-
-// The smallest of the lanes of `m` (+inf for none), by shuffles (the mask
-// variants, for the same reason as above).
-HPRT_FORCE_INLINE float masked_min16(__mmask16 m, __m512 v) {
-  v = _mm512_mask_mov_ps(_mm512_set1_ps(std::numeric_limits<float>::infinity()), m, v);
-  v = min16(v, _mm512_mask_shuffle_f32x4(v, 0xFFFF, v, v, 0x4E));
-  v = min16(v, _mm512_mask_shuffle_f32x4(v, 0xFFFF, v, v, 0xB1));
-  v = min16(v, _mm512_mask_permute_ps(v, 0xFFFF, v, 0x4E));
-  v = min16(v, _mm512_mask_permute_ps(v, 0xFFFF, v, 0xB1));
-  return _mm512_cvtss_f32(v);
-}
 
 // A child box as rows: plane(2 * axis) is its minimum on that axis,
 // plane(2 * axis + 1) its maximum.
@@ -185,6 +251,32 @@ HPRT_FORCE_INLINE __mmask16 slab_packet(const RayPacket<Test>& p, const Box& box
   return _mm512_mask_cmp_ps_mask(active, t0, t1, _CMP_LE_OQ);
 }
 
+// One float per slot of a wide node's box rows (the frustum test).
+template <int N>
+struct SlotVector;
+template <>
+struct SlotVector<8> {
+  static __m256 set1(float x) { return _mm256_set1_ps(x); }
+  static __m256 load(const float* x) { return _mm256_load_ps(x); }
+  static __m256 sub(__m256 a, __m256 b) { return _mm256_sub_ps(a, b); }
+  static __m256 mul(__m256 a, __m256 b) { return _mm256_mul_ps(a, b); }
+  static __m256 min(__m256 a, __m256 b) { return _mm256_min_ps(a, b); }
+  static __m256 max(__m256 a, __m256 b) { return _mm256_max_ps(a, b); }
+  static unsigned le(__m256 a, __m256 b) {
+    return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ));
+  }
+};
+template <>
+struct SlotVector<4> {
+  static __m128 set1(float x) { return _mm_set1_ps(x); }
+  static __m128 load(const float* x) { return _mm_load_ps(x); }
+  static __m128 sub(__m128 a, __m128 b) { return _mm_sub_ps(a, b); }
+  static __m128 mul(__m128 a, __m128 b) { return _mm_mul_ps(a, b); }
+  static __m128 min(__m128 a, __m128 b) { return _mm_min_ps(a, b); }
+  static __m128 max(__m128 a, __m128 b) { return _mm_max_ps(a, b); }
+  static unsigned le(__m128 a, __m128 b) { return _mm_movemask_ps(_mm_cmple_ps(a, b)); }
+};
+
 // What the packet loop needs of a layout, with children named by NodeRef
 // (inner: the node whose children are tested next; leaf: its triangle range).
 template <typename Bvh>
@@ -202,11 +294,37 @@ struct PacketNodes<WideBvh<N>> {
     lanes = 0xFFFF;
     return bvh.root;
   }
-  // f(box, child ref) for each child of inner node `n`.
+  // f(box, child ref, slot) for each child of inner node `n` whose slot is
+  // in `slots`.
   template <typename F>
-  HPRT_FORCE_INLINE void for_each_child(NodeRef n, F&& f) const {
+  HPRT_FORCE_INLINE void for_each_child(NodeRef n, unsigned slots, F&& f) const {
     const WideNode<N>& node = bvh.nodes[n.index()];
-    for (int i = 0; i < N && !node.child[i].empty(); ++i) f(WideSlot<N>{node, i}, node.child[i]);
+    for (unsigned m = slots; m; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      if (node.child[i].empty()) break;  // children fill the first slots
+      f(WideSlot<N>{node, i}, node.child[i], i);
+    }
+  }
+  // The slots of `n` whose box the packet's frustum overlaps on
+  // [tnear_min, tfar_max]; all of them without a frustum.
+  template <typename Test>
+  HPRT_FORCE_INLINE unsigned frustum_slots(NodeRef n, const RayPacket<Test>& p,
+                                           float tfar_max) const {
+    if (!p.frustum) return (1u << N) - 1;
+    const WideNode<N>& node = bvh.nodes[n.index()];
+    using V = SlotVector<N>;
+    auto t0 = V::set1(p.tnear_min), t1 = V::set1(tfar_max);
+    for (int a = 0; a < 3; ++a) {
+      // Which reciprocal extreme bounds a product depends on the sign of
+      // the other factor: both products, the least (greatest) kept.
+      const auto near = V::sub(V::load(node.bounds[p.near_row[a]]), V::set1(p.near_org[a]));
+      const auto far = V::sub(V::load(node.bounds[p.far_row[a]]), V::set1(p.far_org[a]));
+      t0 = V::max(t0, V::min(V::mul(near, V::set1(p.rcp_near_lo[a])),
+                             V::mul(near, V::set1(p.rcp_near_hi[a]))));
+      t1 = V::min(
+          t1, V::max(V::mul(far, V::set1(p.rcp_far_lo[a])), V::mul(far, V::set1(p.rcp_far_hi[a]))));
+    }
+    return V::le(t0, t1);
   }
   HPRT_FORCE_INLINE void prefetch_inner(NodeRef c) const { prefetch_node(&bvh.nodes[c.index()]); }
 
@@ -239,10 +357,15 @@ struct PacketNodes<FlatBvh> {
     return ref_of(bvh.nodes[0], 0);
   }
   template <typename F>
-  HPRT_FORCE_INLINE void for_each_child(NodeRef n, F&& f) const {
+  HPRT_FORCE_INLINE void for_each_child(NodeRef n, unsigned, F&& f) const {
     const uint32_t first = bvh.nodes[n.index()].index;  // children are adjacent
     for (uint32_t k = 0; k < 2; ++k)
-      f(BinaryBox{bvh.nodes[first + k]}, ref_of(bvh.nodes[first + k], first + k));
+      f(BinaryBox{bvh.nodes[first + k]}, ref_of(bvh.nodes[first + k], first + k), int(k));
+  }
+  // No frustum here: two children are tested lane by lane straight away.
+  template <typename Test>
+  static unsigned frustum_slots(NodeRef, const RayPacket<Test>&, float) {
+    return 3u;
   }
   // The child pair of inner node c: one 64-byte line.
   HPRT_FORCE_INLINE void prefetch_inner(NodeRef c) const {
@@ -286,10 +409,10 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
   const Nodes layout{bvh};
   const LeafTriangles& tris = bvh.triangles;
   detail::RayPacket<Test> packet(rays);
-  alignas(64) float tfar_lane[kPacketSize];
-  for (int l = 0; l < kPacketSize; ++l) tfar_lane[l] = rays[l].tfar;
+  float* const tfar_lane = packet.tfar_lane;
   __m512 tfar = _mm512_load_ps(tfar_lane);
-  __mmask16 done = 0;  // any hit: lanes already occluded
+  float tfar_max = detail::reduce_max16(tfar);  // over every lane: bounds the active ones
+  __mmask16 done = 0;                           // any hit: lanes already occluded
 
   detail::PacketStackEntry stack[Nodes::kStackSize];
   int sp = 0;
@@ -310,6 +433,7 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
             }
           }
           tfar = _mm512_load_ps(tfar_lane);
+          tfar_max = detail::reduce_max16(tfar);
           cur = NodeRef{};
           break;
         }
@@ -319,8 +443,9 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
       __mmask16 hit[N];
       NodeRef child[N];
       int order[N];
-      int count = 0, i = 0;
-      layout.for_each_child(cur, [&](const auto& box, NodeRef c) {
+      int count = 0;
+      const unsigned slots = layout.frustum_slots(cur, packet, tfar_max);
+      layout.for_each_child(cur, slots, [&](const auto& box, NodeRef c, int i) {
         child[i] = c;
         hit[i] = detail::slab_packet(packet, box, tfar, active, entry[i]);
         if (hit[i]) {
@@ -330,7 +455,6 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
             layout.prefetch_inner(c);
           order[count++] = i;
         }
-        ++i;
       });
       if (count == 0) {
         cur = NodeRef{};
@@ -398,6 +522,7 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
       if constexpr (kAnyHit)
         if (done == 0xFFFF) break;
       tfar = _mm512_load_ps(tfar_lane);
+      tfar_max = detail::reduce_max16(tfar);
     }
     // Pop the next entry that may still hold a closer hit for some lane.
     active = 0;
