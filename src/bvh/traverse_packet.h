@@ -45,6 +45,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <type_traits>
 
@@ -251,30 +252,28 @@ HPRT_FORCE_INLINE __mmask16 slab_packet(const RayPacket<Test>& p, const Box& box
   return _mm512_mask_cmp_ps_mask(active, t0, t1, _CMP_LE_OQ);
 }
 
-// One float per slot of a wide node's box rows (the frustum test).
+// One float per slot of a wide node's box rows (the frustum test), as a GCC
+// vector: arithmetic and comparisons by operator, on either width.
 template <int N>
-struct SlotVector;
-template <>
-struct SlotVector<8> {
-  static __m256 set1(float x) { return _mm256_set1_ps(x); }
-  static __m256 load(const float* x) { return _mm256_load_ps(x); }
-  static __m256 sub(__m256 a, __m256 b) { return _mm256_sub_ps(a, b); }
-  static __m256 mul(__m256 a, __m256 b) { return _mm256_mul_ps(a, b); }
-  static __m256 min(__m256 a, __m256 b) { return _mm256_min_ps(a, b); }
-  static __m256 max(__m256 a, __m256 b) { return _mm256_max_ps(a, b); }
-  static unsigned le(__m256 a, __m256 b) {
-    return _mm256_movemask_ps(_mm256_cmp_ps(a, b, _CMP_LE_OQ));
+struct SlotVector {
+  typedef float V __attribute__((vector_size(N * sizeof(float))));
+  static V set1(float x) { return V{} + x; }
+  static V load(const float* x) {
+    V v;
+    std::memcpy(&v, x, sizeof v);
+    return v;
   }
-};
-template <>
-struct SlotVector<4> {
-  static __m128 set1(float x) { return _mm_set1_ps(x); }
-  static __m128 load(const float* x) { return _mm_load_ps(x); }
-  static __m128 sub(__m128 a, __m128 b) { return _mm_sub_ps(a, b); }
-  static __m128 mul(__m128 a, __m128 b) { return _mm_mul_ps(a, b); }
-  static __m128 min(__m128 a, __m128 b) { return _mm_min_ps(a, b); }
-  static __m128 max(__m128 a, __m128 b) { return _mm_max_ps(a, b); }
-  static unsigned le(__m128 a, __m128 b) { return _mm_movemask_ps(_mm_cmple_ps(a, b)); }
+  // As _mm_min_ps / _mm_max_ps (no NaN reaches them).
+  static V min(V a, V b) { return a < b ? a : b; }
+  static V max(V a, V b) { return a > b ? a : b; }
+  // The slots where a <= b, as bits.
+  static unsigned le(V a, V b) {
+    const V mask = reinterpret_cast<V>(a <= b);
+    if constexpr (N == 8)
+      return unsigned(_mm256_movemask_ps(reinterpret_cast<__m256>(mask)));
+    else
+      return unsigned(_mm_movemask_ps(reinterpret_cast<__m128>(mask)));
+  }
 };
 
 // What the packet loop needs of a layout, with children named by NodeRef
@@ -317,12 +316,10 @@ struct PacketNodes<WideBvh<N>> {
     for (int a = 0; a < 3; ++a) {
       // Which reciprocal extreme bounds a product depends on the sign of
       // the other factor: both products, the least (greatest) kept.
-      const auto near = V::sub(V::load(node.bounds[p.near_row[a]]), V::set1(p.near_org[a]));
-      const auto far = V::sub(V::load(node.bounds[p.far_row[a]]), V::set1(p.far_org[a]));
-      t0 = V::max(t0, V::min(V::mul(near, V::set1(p.rcp_near_lo[a])),
-                             V::mul(near, V::set1(p.rcp_near_hi[a]))));
-      t1 = V::min(
-          t1, V::max(V::mul(far, V::set1(p.rcp_far_lo[a])), V::mul(far, V::set1(p.rcp_far_hi[a]))));
+      const auto near = V::load(node.bounds[p.near_row[a]]) - p.near_org[a];
+      const auto far = V::load(node.bounds[p.far_row[a]]) - p.far_org[a];
+      t0 = V::max(t0, V::min(near * p.rcp_near_lo[a], near * p.rcp_near_hi[a]));
+      t1 = V::min(t1, V::max(far * p.rcp_far_lo[a], far * p.rcp_far_hi[a]));
     }
     return V::le(t0, t1);
   }
