@@ -9,8 +9,8 @@
 #include <memory>
 #include <vector>
 
-#include "bvh/build_options.h"
-#include "bvh/prim_info.h"
+#include "bvh/input/build_options.h"
+#include "bvh/input/prim_info.h"
 
 namespace hprt::bench {
 

@@ -191,14 +191,14 @@ Table make_table() {
 BenchReport run_frames_bench(const FramesBenchConfig& config) {
   const BenchOptions& o = config.common;
   check_bench_options(o);
-  if (config.frames < 0) throw InputError("--frames", "must be at least 1");
+  if (config.frames < 0) throw OptionError("frames", "must be at least 1");
   const int frames = config.frames > 0 ? config.frames : (o.quick ? 3 : 10);
   const size_t tris = config.tris > 0 ? config.tris : (o.quick ? 20'000 : 1'000'000);
   const int threads = resolve_threads(o.threads);
   const float factor =
       config.adaptive_factor > 0.0f ? config.adaptive_factor : BackendOptions{}.adaptive_factor;
   if (config.adaptive_factor < 0.0f || !(factor >= 1.0f))
-    throw InputError("--adaptive-factor", "must be at least 1");
+    throw OptionError("adaptive_factor", "must be at least 1");
 
   BenchInput input = config.input.empty() ? generated_input(tris) : file_input(config.input);
   if (input.scene.triangle_count() == 0) throw InputError(input.source, "no triangles to animate");

@@ -11,10 +11,10 @@ namespace hprt::bench {
 
 void check_bench_options(const BenchOptions& o) {
   if (o.repeat && *o.repeat < 1)
-    throw InputError("--repeat", "must be at least 1 (got " + std::to_string(*o.repeat) + ")");
+    throw OptionError("repeat", "must be at least 1 (got " + std::to_string(*o.repeat) + ")");
   if (o.threads < 0)
-    throw InputError("--threads",
-                     "must be 0 (all) or a positive count (got " + std::to_string(o.threads) + ")");
+    throw OptionError(
+        "threads", "must be 0 (all) or a positive count (got " + std::to_string(o.threads) + ")");
   if (!o.out_dir.empty()) {
     namespace fs = std::filesystem;
     std::error_code ec;

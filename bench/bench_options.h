@@ -16,7 +16,7 @@ struct BenchOptions {
   bool progress = true;       // progress bar on a terminal (stderr)
 };
 
-// Throws InputError("--repeat", ...) for repeat < 1, ("--threads", ...) for
+// Throws OptionError("repeat", ...) for repeat < 1, ("threads", ...) for
 // threads < 0, ("--out", ...) when out_dir exists and is not a directory.
 // Creates out_dir (and parents) when missing.
 void check_bench_options(const BenchOptions& o);

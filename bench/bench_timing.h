@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "core/stopwatch.h"
+
 namespace hprt::bench {
 
 struct TimingStats {
@@ -23,10 +25,9 @@ TimingStats summarize_ms(std::vector<double> samples_ms);
 // Milliseconds spent in `f()`.
 template <typename F>
 double time_ms(F&& f) {
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto start = Clock::now();
   f();
-  const auto t1 = std::chrono::steady_clock::now();
-  return std::chrono::duration<double, std::milli>(t1 - t0).count();
+  return ms_since(start);
 }
 
 // Calls `setup()` (not timed) then times `f()`, `repetitions` times.

@@ -9,7 +9,7 @@
 
 #include "bench/bench_options.h"
 #include "bench/report_bench.h"
-#include "bvh/build_options.h"
+#include "bvh/input/build_options.h"
 
 namespace hprt::bench {
 

@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
-# The main demo: set-up, Release build, then data/scenes/default.json rendered
-# at its size with both backends into out/, the two images compared with
-# `hprt validate image` (heat map out/default_diff.png), and a Markdown table
-# of build ms, render ms, Mrays/s and the PSNR between the backends.
+# The main demo: set-up, Release build of the hprt command only, then
+# data/scenes/default.json rendered at its size with both backends into
+# out/, the two images compared with `hprt validate image` (heat map
+# out/default_diff.png), and a Markdown table of build ms, render ms,
+# Mrays/s and the PSNR between the backends.
 # Usage: scripts/demo.sh [--no-build] [--threads N]
 #   --no-build   skip setup.sh/build.sh (use an existing build)
 #   HPRT_BUILD_DIR selects the build directory (default: build/).
@@ -22,7 +23,7 @@ done
 
 if [ "$do_build" = 1 ]; then
   "$root/scripts/setup.sh"
-  "$root/scripts/build.sh"
+  HPRT_BUILD_TARGETS=hprt "$root/scripts/build.sh"  # the demo runs only the hprt command
 fi
 hprt="$build/src/hprt"
 [ -x "$hprt" ] || { echo "demo: $hprt not found (build first)" >&2; exit 2; }
@@ -49,7 +50,7 @@ for backend in embree bvh; do
   triangles="$(json_field "$json" triangles)"
 done
 
-# Same thresholds as tests/test_render_golden.cpp between backends: PSNR of at
+# Same thresholds as tests/render/test_render_golden.cpp between backends: PSNR of at
 # least 50 dB, at most 0.1 % of the pixels off by more than 0.01.
 pixels=$(( ${size%x*} * ${size#*x} ))
 status=0

@@ -7,6 +7,7 @@ packages=(
   libtinyobjloader-dev libgtest-dev nlohmann-json3-dev libcli11-dev
   libbenchmark-dev zlib1g-dev assimp-testmodels gnuplot-nox
   clang libclang-rt-14-dev clang-format
+  slurm-wlm munge
 )
 missing=()
 for p in "${packages[@]}"; do

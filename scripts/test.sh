@@ -1,9 +1,11 @@
 #!/usr/bin/env bash
 # The README's test command (and CI's, via .ci/run): set-up, Release build,
-# the whole CTest suite; then, unless HPRT_TEST_QUICK=1, the reliability
-# passes: ASan+UBSan over the unit tests, TSan over the parallel tests
-# (scripts/sanitize.sh) and each libFuzzer target for FUZZ_SECONDS (default 15,
-# about a minute in all; scripts/fuzz.sh skips itself without clang/libFuzzer).
+# the whole CTest suite, the Slurm job-array test on a one-node cluster it
+# starts itself (tests/cluster/test_slurm_array.sh, needs root, about 30 s);
+# then, unless HPRT_TEST_QUICK=1, the reliability passes: ASan+UBSan over the
+# unit tests, TSan over the parallel tests (scripts/sanitize.sh) and each
+# libFuzzer target for FUZZ_SECONDS (default 15, about a minute in all;
+# scripts/fuzz.sh skips itself without clang/libFuzzer).
 # Prints each stage's wall time; stops at the first failing stage.
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
@@ -28,6 +30,7 @@ release_ctest() {
   ctest --output-on-failure -j "$(nproc)" --timeout 600
 }
 stage "Release ctest" release_ctest
+stage "Slurm cluster" "$root/tests/cluster/test_slurm_array.sh" "${HPRT_BUILD_DIR:-$root/build}/src/hprt"
 if [[ "${HPRT_TEST_QUICK:-0}" == 1 ]]; then
   echo "test.sh: HPRT_TEST_QUICK=1: sanitizer and fuzz passes skipped" >&2
   exit 0

@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Regenerates the golden images data/golden/<scene>.png that
-# tests/test_render_golden.cpp compares every backend against: each scene of
+# tests/render/test_render_golden.cpp compares every backend against: each scene of
 # data/scenes (except default.json, the demo scene) rendered small with the
 # Embree backend. Run it ONLY when a change of the rendered images is
 # intended (shading, camera, scene files), and say so in the commit.
@@ -12,7 +12,7 @@ if [ ! -x "$hprt" ]; then
   echo "update_golden: $hprt not found; build first (scripts/build.sh) or pass its path" >&2
   exit 2
 fi
-# Sizes must match tests/test_render_golden.cpp.
+# Sizes must match tests/render/test_render_golden.cpp.
 declare -A sizes=(
   [single_6mm]="160 120"
   [single_13mm]="160 120"

@@ -11,7 +11,7 @@
 #include <span>
 #include <vector>
 
-#include "bvh/prim_info.h"  // PrimRef
+#include "bvh/input/prim_info.h"  // PrimRef
 #include "core/hit.h"
 #include "core/ray.h"
 #include "core/scene.h"

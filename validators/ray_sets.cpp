@@ -2,6 +2,8 @@
 // stream seeded by the caller, so a set is bit-identical for a given seed on
 // any platform (no std:: distributions, whose results are library-defined).
 #include "ray_sets.h"  // validators/ is on the include path of users only
+#include "core/ray_offset.h"
+#include "core/splitmix64.h"
 
 #include <algorithm>
 #include <array>
@@ -34,23 +36,7 @@ constexpr std::array<KindName, 9> kKinds{{{RayKind::kPrimary, "primary"},
                                           {RayKind::kAxis, "axis"},
                                           {RayKind::kNan, "nan"}}};
 
-// splitmix64 (Steele, Lea, Flood 2014): tiny, fast, well mixed.
-class Rng {
- public:
-  explicit Rng(uint64_t seed) : state_(seed) {}
-  uint64_t next() {
-    uint64_t z = (state_ += 0x9E3779B97F4A7C15ull);
-    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-    z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-    return z ^ (z >> 31);
-  }
-  float uniform() { return float(next() >> 40) * 0x1.0p-24f; }  // [0, 1)
-  size_t below(size_t n) { return size_t(next() % n); }         // n > 0; bias negligible
-  bool coin() { return (next() >> 63) != 0; }
-
- private:
-  uint64_t state_;
-};
+using Rng = SplitMix64;
 
 Vec3f uniform_sphere(Rng& rng) {
   const float z = 1.0f - 2.0f * rng.uniform();
@@ -89,7 +75,7 @@ class TrianglePicker {
       const uint32_t tri = uint32_t(g - first);
       if (scene_.meshes[mesh].triangle_valid(tri)) return {mesh, tri};
     }
-    throw InputError("--kind", std::string(kind) + ": found no valid (non-degenerate) triangle");
+    throw OptionError("kind", std::string(kind) + ": found no valid (non-degenerate) triangle");
   }
 
  private:
@@ -133,7 +119,7 @@ Vec3f mesh_centroid(const TriangleMesh& m) {
 
 void require_triangles(const TrianglePicker& picker, RayKind kind) {
   if (picker.empty())
-    throw InputError("--kind", std::string(to_string(kind)) + " rays need a scene with triangles");
+    throw OptionError("kind", std::string(to_string(kind)) + " rays need a scene with triangles");
 }
 
 // Scanline-ordered, stratified-jittered camera rays: ray i lands in pixel
@@ -205,20 +191,20 @@ std::vector<SurfaceHit> primary_hits(const Scene& scene, size_t n, Rng& rng,
     }
   }
   if (out.size() < n)
-    throw InputError("--kind", std::string(to_string(kind)) + ": only " +
-                                   std::to_string(out.size()) + " of " + std::to_string(n) +
-                                   " primary rays hit the scene (camera misses it?)");
+    throw OptionError("kind", std::string(to_string(kind)) + ": only " +
+                                  std::to_string(out.size()) + " of " + std::to_string(n) +
+                                  " primary rays hit the scene (camera misses it?)");
   return out;
 }
 
 std::vector<Ray> shadow_rays(const Scene& scene, size_t n, Rng& rng, const Intersector* backend) {
-  if (scene.lights.empty()) throw InputError("--kind", "shadow rays need a light in the scene");
+  if (scene.lights.empty()) throw OptionError("kind", "shadow rays need a light in the scene");
   const Light& light = scene.lights.front();
   const std::vector<SurfaceHit> hits = primary_hits(scene, n, rng, backend, RayKind::kShadow);
   std::vector<Ray> rays(n);
   for (size_t i = 0; i < n; ++i) {
     Ray& r = rays[i];
-    r.org = offset_ray_origin(hits[i].p, hits[i].n);
+    r.org = offset_ray(hits[i].p, hits[i].n);
     r.tnear = 0.0f;
     if (light.type == LightType::kPoint) {
       // Unnormalised direction: the light sits at t = 1; stop just short of it.
@@ -239,7 +225,7 @@ std::vector<Ray> reflection_rays(const Scene& scene, size_t n, Rng& rng,
   for (size_t i = 0; i < n; ++i) {
     const SurfaceHit& h = hits[i];
     const Vec3f d = normalize(h.dir);
-    rays[i].org = offset_ray_origin(h.p, h.n);
+    rays[i].org = offset_ray(h.p, h.n);
     rays[i].dir = d - h.n * (2.0f * dot(d, h.n));
   }
   return rays;
@@ -263,8 +249,8 @@ std::vector<Ray> probe_rays(const Scene& scene, size_t n, Rng& rng, RayKind kind
   for (uint32_t i = 0; i < scene.meshes.size(); ++i)
     if (mesh_closed(scene.meshes[i])) closed.push_back(i);
   if (closed.empty())
-    throw InputError("--kind", std::string(to_string(kind)) +
-                                   " rays need a closed mesh (every edge shared by two triangles)");
+    throw OptionError("kind", std::string(to_string(kind)) +
+                                  " rays need a closed mesh (every edge shared by two triangles)");
   std::vector<Vec3f> centroids(scene.meshes.size());
   for (uint32_t m : closed) centroids[m] = mesh_centroid(scene.meshes[m]);
   const TrianglePicker picker(scene, closed);
@@ -273,7 +259,7 @@ std::vector<Ray> probe_rays(const Scene& scene, size_t n, Rng& rng, RayKind kind
   size_t attempts = 0;
   while (rays.size() < n) {
     if (++attempts > 100 * n + 1000)
-      throw InputError("--kind", std::string(to_string(kind)) + ": every target is the centroid");
+      throw OptionError("kind", std::string(to_string(kind)) + ": every target is the centroid");
     const auto [mesh, tri] = picker.pick(rng, "probe");
     const TriangleMesh& m = scene.meshes[mesh];
     const int k = int(rng.below(3));
@@ -406,8 +392,7 @@ RayKind parse_ray_kind(std::string_view name) {
     if (name == k.name) return k.kind;
   std::string list;
   for (const KindName& k : kKinds) list += (list.empty() ? "" : ", ") + std::string(k.name);
-  throw InputError("--kind",
-                   "unknown ray kind '" + std::string(name) + "' (expected " + list + ")");
+  throw OptionError("kind", "unknown ray kind '" + std::string(name) + "' (expected " + list + ")");
 }
 
 std::vector<std::string> ray_kind_names() {
@@ -416,27 +401,11 @@ std::vector<std::string> ray_kind_names() {
   return v;
 }
 
-Vec3f offset_ray_origin(const Vec3f& p, const Vec3f& n) {
-  // Constants from the chapter: origin() = 1/32, float_scale() = 1/65536,
-  // int_scale() = 256.
-  constexpr float kOrigin = 1.0f / 32.0f;
-  constexpr float kFloatScale = 1.0f / 65536.0f;
-  constexpr float kIntScale = 256.0f;
-  Vec3f out;
-  for (int k = 0; k < 3; ++k) {
-    const int32_t of = int32_t(kIntScale * n[k]);
-    const int32_t bits = std::bit_cast<int32_t>(p[k]);
-    const float moved = std::bit_cast<float>(bits + (p[k] < 0.0f ? -of : of));
-    out[k] = std::fabs(p[k]) < kOrigin ? p[k] + kFloatScale * n[k] : moved;
-  }
-  return out;
-}
-
 std::vector<Ray> make_rays(const Scene& scene, RayKind kind, size_t n, uint64_t seed,
                            const Intersector* backend) {
   if (n == 0) return {};
   // Different kinds with the same seed get unrelated streams.
-  Rng rng(seed * 0x9E3779B97F4A7C15ull + uint64_t(kind) + 1);
+  Rng rng(seed * kSplitMixGamma + uint64_t(kind) + 1);
   switch (kind) {
     case RayKind::kPrimary:
       return primary_rays(scene, n, rng);
@@ -456,7 +425,7 @@ std::vector<Ray> make_rays(const Scene& scene, RayKind kind, size_t n, uint64_t 
     case RayKind::kNan:
       return nan_rays(scene, n, rng);
   }
-  throw InputError("--kind", "unknown ray kind");
+  throw OptionError("kind", "unknown ray kind");
 }
 
 }  // namespace hprt

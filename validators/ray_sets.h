@@ -28,7 +28,7 @@ enum class RayKind {
 };
 
 std::string_view to_string(RayKind kind);
-// Throws InputError("--kind", ...) naming the valid kinds.
+// Throws OptionError("kind", ...) naming the valid kinds.
 RayKind parse_ray_kind(std::string_view name);
 std::vector<std::string> ray_kind_names();
 
@@ -38,11 +38,5 @@ std::vector<std::string> ray_kind_names();
 // kind (no triangles, no light, no closed mesh for probes, too few hits).
 std::vector<Ray> make_rays(const Scene& scene, RayKind kind, size_t n, uint64_t seed,
                            const Intersector* backend = nullptr);
-
-// Secondary-ray origin offset of Wächter & Binder, "A Fast and Robust Method
-// for Avoiding Self-Intersection" (Ray Tracing Gems, ch. 6): move p along the
-// unit normal n by a few ulps (256 float steps), or by 1/65536 absolute near
-// the origin (|p| < 1/32) where ulps are too small.
-Vec3f offset_ray_origin(const Vec3f& p, const Vec3f& n);
 
 }  // namespace hprt

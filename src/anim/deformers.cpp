@@ -1,6 +1,7 @@
 // The five deformers (formulas in deformers.h), the rest-pose measurements
 // they use, and unwelding for explode.
 #include "anim/deformers.h"
+#include "core/splitmix64.h"
 
 #include <tbb/parallel_for.h>
 
@@ -142,10 +143,7 @@ RestPose measure_rest_pose(std::span<const Vec3f> positions) {
 }
 
 float explode_factor(size_t triangle) {
-  uint64_t z = uint64_t(triangle) + 0x9E3779B97F4A7C15ull;  // splitmix64
-  z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ull;
-  z = (z ^ (z >> 27)) * 0x94D049BB133111EBull;
-  z ^= z >> 31;
+  const uint64_t z = splitmix64(uint64_t(triangle));
   return 0.5f + float(z >> 40) * (1.0f / 16777216.0f);
 }
 

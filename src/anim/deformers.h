@@ -1,4 +1,4 @@
-// Deformers (DESIGN.md "Animate deformable meshes"): pure functions of a rest
+// Deformers (docs/ARCHITECTURE.md "An animation frame"): pure functions of a rest
 // pose, a DeformerSpec and the time t = frame / fps. Each runs in parallel
 // (tbb::parallel_for, in the caller's task arena) and allocates nothing; input
 // and output may be the same buffer, so a mesh's deformers chain in place.

@@ -5,7 +5,7 @@
 // and the tree statistics; batches of rays traced in parallel blocks with one
 // switch per batch into a fully inlined traversal.
 // update(): per BackendOptions::update, a full rebuild, a refit over the last
-// build's topology (bvh/refit.h), or adaptive (refit, then rebuild when the
+// build's topology (bvh/refit/refit_bvh2.h), or adaptive (refit, then rebuild when the
 // refitted SAH cost exceeds adaptive_factor x the cost at the last rebuild).
 #include "backends/bvh_backend.h"
 
@@ -20,29 +20,25 @@
 #include <string>
 #include <vector>
 
-#include "bvh/builders.h"
-#include "bvh/flatten.h"
-#include "bvh/flatten_wide.h"
-#include "bvh/huge_buffer.h"
-#include "bvh/refit.h"
-#include "bvh/refit_wide.h"
-#include "bvh/traverse.h"
-#include "bvh/traverse_packet.h"
-#include "bvh/traverse_wide.h"
+#include "bvh/build/builders.h"
+#include "bvh/layout/flatten_bvh2.h"
+#include "bvh/layout/flatten_wide.h"
+#include "bvh/memory/huge_buffer.h"
+#include "bvh/refit/refit_bvh2.h"
+#include "bvh/refit/refit_wide.h"
+#include "bvh/traverse/traverse_bvh2.h"
+#include "bvh/traverse/traverse_packet.h"
+#include "bvh/traverse/traverse_wide.h"
 #include "core/ray_coherence.h"
+#include "core/stopwatch.h"
 
 namespace hprt {
 namespace {
 
 constexpr size_t kGrain = 128;  // rays per parallel task
 
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
-
 template <typename Test, bool kAnyHit>
-bool trace_one(const FlatBvh& bvh, const Ray& ray, Hit& hit) {
+bool trace_one(const Bvh2& bvh, const Ray& ray, Hit& hit) {
   return traverse<Test, kAnyHit>(bvh, ray, hit);
 }
 template <typename Test, bool kAnyHit, int N>
@@ -62,7 +58,7 @@ constexpr bool kTracesPackets = false;
 inline float packet_origin_tolerance(const AABB& root) {
   return root.empty() ? 0.0f : kCoherentOriginFraction * max_component(root.diagonal());
 }
-inline float packet_origin_tolerance(const FlatBvh& bvh) {
+inline float packet_origin_tolerance(const Bvh2& bvh) {
   return bvh.empty() ? 0.0f : packet_origin_tolerance(AABB(bvh.nodes[0].min, bvh.nodes[0].max));
 }
 template <int N>
@@ -235,7 +231,7 @@ class BvhIntersector final : public Intersector {
     // next update() finds the layout changed and rebuilds, instead of
     // refitting an empty tree.
     layout_.clear();
-    bvh2_ = FlatBvh{};
+    bvh2_ = Bvh2{};
     bvh4_ = WideBvh<4>{};
     bvh8_ = WideBvh<8>{};
     const auto make_layout = [&] {
@@ -283,14 +279,14 @@ class BvhIntersector final : public Intersector {
     return options_.triangle_test == TriangleTestKind::kMoller ? TriangleArrays::kEdges
                                                                : TriangleArrays::kVerts;
   }
-  static void flatten_nodes_into(FlatBvh& out, const BuildTree& tree, const PrimInfo& prims) {
+  static void flatten_nodes_into(Bvh2& out, const BuildTree& tree, const PrimInfo& prims) {
     out = flatten_nodes(tree, prims);
   }
   template <int N>
   static void flatten_nodes_into(WideBvh<N>& out, const BuildTree& tree, const PrimInfo& prims) {
     out = flatten_wide_nodes<N>(tree, prims);
   }
-  static double sah_cost_of(const FlatBvh& bvh) { return flat_sah_cost(bvh); }
+  static double sah_cost_of(const Bvh2& bvh) { return bvh2_sah_cost(bvh); }
   template <int N>
   static double sah_cost_of(const WideBvh<N>& bvh) {
     return wide_sah_cost(bvh);
@@ -332,7 +328,7 @@ class BvhIntersector final : public Intersector {
   };
 
   BackendOptions options_;
-  FlatBvh bvh2_;
+  Bvh2 bvh2_;
   WideBvh<4> bvh4_;
   WideBvh<8> bvh8_;
   BuildInfo info_;

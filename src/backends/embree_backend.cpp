@@ -19,6 +19,7 @@
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/ray_coherence.h"
+#include "core/stopwatch.h"
 
 namespace hprt {
 namespace {
@@ -33,8 +34,8 @@ RTCBuildQuality parse_quality(const std::string& q) {
   if (q == "medium") return RTC_BUILD_QUALITY_MEDIUM;
   if (q == "high") return RTC_BUILD_QUALITY_HIGH;
   if (q == "refit") return RTC_BUILD_QUALITY_REFIT;
-  throw InputError("--quality", "unknown embree build quality '" + q +
-                                    "' (expected low, medium, high or refit)");
+  throw OptionError(
+      "quality", "unknown embree build quality '" + q + "' (expected low, medium, high or refit)");
 }
 
 // Embree 3 requires a ray segment inside [0, inf] and org/dir components of
@@ -230,11 +231,6 @@ class EmbreeIntersector final : public Intersector {
     rtcOccluded16(valid, scene_, &context, &p);
     for (size_t i = 0; i < kPacket; ++i)
       o[i] = p.tfar[i] == -std::numeric_limits<float>::infinity() ? 1 : 0;
-  }
-
-  static double ms_since(std::chrono::steady_clock::time_point start) {
-    return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-        .count();
   }
 
   static void check_indices(const TriangleMesh& m) {

@@ -14,11 +14,11 @@
 #include <string_view>
 #include <vector>
 
-#include "bvh/build_options.h"
-#include "bvh/tree_stats.h"
+#include "bvh/input/build_options.h"
 #include "core/hit.h"
 #include "core/ray.h"
 #include "core/scene.h"
+#include "core/tree_stats.h"
 
 namespace hprt {
 
@@ -65,6 +65,5 @@ class Intersector {
 // Throws InputError naming the backend when it is unknown.
 std::unique_ptr<Intersector> make_intersector(std::string_view backend,
                                               const BackendOptions& options);
-std::vector<std::string> backend_names();
 
 }  // namespace hprt

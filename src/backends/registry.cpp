@@ -6,14 +6,12 @@
 
 namespace hprt {
 
-std::vector<std::string> backend_names() { return {"bvh", "embree"}; }
-
 std::unique_ptr<Intersector> make_intersector(std::string_view backend,
                                               const BackendOptions& options) {
   if (backend == "bvh") return make_bvh_intersector(options);
   if (backend == "embree") return make_embree_intersector(options);
-  throw InputError("--backend",
-                   "unknown backend '" + std::string(backend) + "' (expected bvh or embree)");
+  throw OptionError("backend",
+                    "unknown backend '" + std::string(backend) + "' (expected bvh or embree)");
 }
 
 }  // namespace hprt

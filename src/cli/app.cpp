@@ -1,8 +1,10 @@
 #include "cli/app.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <exception>
 #include <new>
+#include <string>
 
 #include "cli/commands.h"
 #include "core/error.h"
@@ -13,6 +15,16 @@
 #endif
 
 namespace hprt::cli {
+namespace {
+
+// The command line's name of a library option key: leaf_size -> --leaf-size,
+// n -> -n (every key is spelt as its flag).
+std::string option_flag(std::string key) {
+  std::replace(key.begin(), key.end(), '_', '-');
+  return (key.size() == 1 ? "-" : "--") + key;
+}
+
+}  // namespace
 
 int run(int argc, char** argv) {
   install_output_cleanup_handlers();
@@ -38,6 +50,10 @@ int run(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     std::fprintf(stderr, "hprt: error: %s (see hprt --help)\n", e.what());
+    return 2;
+  } catch (const OptionError& e) {
+    std::fprintf(stderr, "hprt: error: %s: %s\n", option_flag(e.key()).c_str(),
+                 e.problem().c_str());
     return 2;
   } catch (const InputError& e) {
     std::fprintf(stderr, "hprt: error: %s\n", e.what());

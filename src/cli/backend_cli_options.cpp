@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "bvh/input/build_options.h"
 #include "cli/commands.h"
 
 namespace hprt::cli {
@@ -35,10 +36,10 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
       ->capture_default_str();
   cmd.add_option("--bins", o.options.build.bins,
                  "bvh: bins per axis (binned, parallel; small nodes use fewer)")
-      ->check(CLI::Range(2, 1024))
+      ->check(CLI::Range(kMinBins, kMaxBins))
       ->capture_default_str();
   cmd.add_option("--leaf-size", o.options.build.max_leaf_size, "bvh: most triangles in a leaf")
-      ->check(CLI::Range(1, 64))
+      ->check(CLI::Range(1, kMaxLeafSize))
       ->capture_default_str();
   cmd.add_option("--sah-traversal", o.options.build.sah.traversal_cost,
                  "bvh: SAH cost of an inner node (C_t of the report's equation (1))")

@@ -8,6 +8,7 @@
 #include "cli/commands.h"
 #include "cli/output_path.h"
 #include "core/error.h"
+#include "core/stopwatch.h"
 #include "io/generate_mesh.h"
 #include "io/ply_writer.h"
 
@@ -33,15 +34,15 @@ void run_generate(const GenerateArgs& a) {
   spec.tris = size_t(a.tris);
   spec.seed = a.seed;
   spec.from = a.from;
-  const auto t0 = std::chrono::steady_clock::now();
+  const auto t0 = Clock::now();
   const TriangleMesh mesh = generate_mesh(spec);
-  const auto t1 = std::chrono::steady_clock::now();
+  const double generate_ms = ms_since(t0);
+  const auto t1 = Clock::now();
   write_ply(mesh, a.output);
-  const auto t2 = std::chrono::steady_clock::now();
-  const auto ms = [](auto d) { return std::chrono::duration<double, std::milli>(d).count(); };
+  const double write_ms = ms_since(t1);
   std::fprintf(stderr,
                "hprt generate: %s, %zu triangles, %zu vertices, %.1f ms (write %.1f ms) -> %s\n",
-               a.kind.c_str(), mesh.triangle_count(), mesh.vertex_count(), ms(t1 - t0), ms(t2 - t1),
+               a.kind.c_str(), mesh.triangle_count(), mesh.vertex_count(), generate_ms, write_ms,
                a.output.c_str());
 }
 

@@ -23,6 +23,7 @@
 #include "cli/frame_range.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "core/stopwatch.h"
 #include "io/image_io.h"
 #include "io/scene_reader.h"
 #include "render/progress.h"
@@ -52,11 +53,6 @@ struct FrameReport {
   RenderStats stats;
   std::string output;
 };
-
-double ms_since(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start)
-      .count();
-}
 
 // --width/--height/--focal override the scene camera. One of width/height
 // alone keeps the scene's aspect ratio.

@@ -14,6 +14,7 @@
 #include "cli/commands.h"
 #include "cli/output_path.h"
 #include "core/parallel.h"
+#include "core/stopwatch.h"
 #include "io/ray_file.h"
 #include "io/scene_reader.h"
 
@@ -45,7 +46,7 @@ void run_trace(const TraceArgs& a) {
     std::unique_ptr<Intersector> backend = make_intersector(options.backend, options);
     backend->build(scene);
     info = backend->info();
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     if (a.occluded) {
       occluded.resize(rays.size());
       backend->occluded(rays, occluded);
@@ -53,8 +54,7 @@ void run_trace(const TraceArgs& a) {
       hits.resize(rays.size());
       backend->intersect(rays, hits);
     }
-    trace_ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+    trace_ms = ms_since(start);
   });
 
   size_t hit_count = 0;

@@ -32,10 +32,6 @@ struct AABB {
     return d.x * d.y + d.y * d.z + d.z * d.x;
   }
   constexpr float surface_area() const { return 2.0f * half_area(); }
-  constexpr int largest_axis() const {
-    Vec3f d = diagonal();
-    return d.x >= d.y ? (d.x >= d.z ? 0 : 2) : (d.y >= d.z ? 1 : 2);
-  }
   constexpr bool contains(const AABB& b) const {
     return b.empty() || (min.x <= b.min.x && min.y <= b.min.y && min.z <= b.min.z &&
                          max.x >= b.max.x && max.y >= b.max.y && max.z >= b.max.z);

@@ -14,4 +14,20 @@ class InputError : public std::runtime_error {
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };
 
+// A bad value of a named option. The library names an option by its key, the
+// snake_case word every front end shares (leaf_size, bins, quality, kind, ...);
+// what() reads "key: problem", and each front end shows the key its own way:
+// the CLI as its flag (--leaf-size), Python as the keyword argument.
+class OptionError : public InputError {
+ public:
+  OptionError(const std::string& key, const std::string& problem)
+      : InputError(key, problem), key_(key), problem_(problem) {}
+  const std::string& key() const { return key_; }
+  const std::string& problem() const { return problem_; }
+
+ private:
+  std::string key_;
+  std::string problem_;
+};
+
 }  // namespace hprt

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <random>
 
+#include "core/splitmix64.h"
 #include "core/vec.h"
 
 namespace hprt {
@@ -39,10 +40,7 @@ class GeneratorRng {
 // finaliser), so blocks of a mesh can be generated in parallel and the result
 // does not depend on the thread count.
 inline uint64_t stream_seed(uint64_t seed, uint64_t index) {
-  uint64_t x = seed + (index + 1) * 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
+  return splitmix64_mix(seed + (index + 1) * kSplitMixGamma);
 }
 
 // Triangles per random stream in soup and slivers.

@@ -7,16 +7,10 @@
 #include <cmath>
 
 #include "core/mesh_generators.h"
+#include "core/splitmix64.h"
 
 namespace hprt {
 namespace {
-
-uint64_t splitmix64(uint64_t x) {
-  x += 0x9E3779B97F4A7C15ull;
-  x = (x ^ (x >> 30)) * 0xBF58476D1CE4E5B9ull;
-  x = (x ^ (x >> 27)) * 0x94D049BB133111EBull;
-  return x ^ (x >> 31);
-}
 
 // Lattice value in [-1, 1) for integer point (ix, iz) of one octave.
 double lattice(uint64_t seed, int octave, int64_t ix, int64_t iz) {

@@ -9,8 +9,8 @@
 
 namespace hprt {
 
-// Largest file (after decompression) we accept: 4 GiB, far above the tens of
-// millions of triangles DESIGN.md targets (a 20M-triangle binary PLY is ~0.4 GB).
+// Largest file (after decompression) we accept: 4 GiB, far above meshes of
+// tens of millions of triangles (a 20M-triangle binary PLY is ~0.4 GB).
 inline constexpr size_t kMaxInputBytes = size_t{4} << 30;
 
 // True when `path` ends in ".gz" (any case).

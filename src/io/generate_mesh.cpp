@@ -14,12 +14,12 @@ const std::vector<std::string>& generator_kinds() {
 }
 
 TriangleMesh generate_mesh(const GenerateSpec& spec) {
-  if (spec.tris == 0) throw InputError("--tris", "need at least 1 triangle, got 0");
+  if (spec.tris == 0) throw OptionError("tris", "need at least 1 triangle, got 0");
   if (spec.tris > kMaxGenerateTriangles)
-    throw InputError("--tris", "too many triangles: " + std::to_string(spec.tris) + " (at most " +
-                                   std::to_string(kMaxGenerateTriangles) + ")");
+    throw OptionError("tris", "too many triangles: " + std::to_string(spec.tris) + " (at most " +
+                                  std::to_string(kMaxGenerateTriangles) + ")");
   if (spec.kind != "subdivide" && !spec.from.empty())
-    throw InputError("--from", "only used by 'subdivide', not '" + spec.kind + "'");
+    throw OptionError("from", "only used by 'subdivide', not '" + spec.kind + "'");
   if (spec.kind == "sphere") return generate_sphere(spec.tris);
   if (spec.kind == "torus") return generate_torus(spec.tris);
   if (spec.kind == "soup") return generate_soup(spec.tris, spec.seed);
@@ -27,7 +27,7 @@ TriangleMesh generate_mesh(const GenerateSpec& spec) {
   if (spec.kind == "terrain") return generate_terrain(spec.tris, spec.seed);
   if (spec.kind == "plane") return generate_plane(spec.tris);
   if (spec.kind == "subdivide") {
-    if (spec.from.empty()) throw InputError("--from", "'subdivide' needs an input mesh");
+    if (spec.from.empty()) throw OptionError("from", "'subdivide' needs an input mesh");
     TriangleMesh mesh = subdivide_mesh(load_mesh(spec.from), spec.tris);
     mesh.normals.clear();
     return mesh;

@@ -1,4 +1,4 @@
-// .rays, .hits and occlusion files (DESIGN.md "Files"): raw little-endian
+// .rays, .hits and occlusion files (docs/ARCHITECTURE.md "Files"): raw little-endian
 // records, no header. .rays: 32 bytes per ray (== Ray); .hits: 20 bytes per
 // ray (== Hit); occlusion: one byte per ray, 1 = occluded.
 #pragma once

@@ -1,4 +1,4 @@
-// Scene loading (DESIGN.md "Files"): a strict reader for the JSON schema
+// Scene loading (docs/ARCHITECTURE.md "Files"): a strict reader for the JSON schema
 // (unknown fields and wrong types are errors naming their JSON path), or a
 // bare mesh path framed by a default camera with a head light.
 // Defaults beyond src/core/*.h: a file without "camera" gets the framing

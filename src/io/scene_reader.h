@@ -1,4 +1,4 @@
-// Scene loading: a JSON scene file (DESIGN.md schema) or a bare mesh path
+// Scene loading: a JSON scene file (docs/ARCHITECTURE.md "Files") or a bare mesh path
 // (OBJ/PLY, optionally .gz), which becomes a scene with a camera framing the
 // mesh's bounding sphere and a head light. Throws InputError "path: problem".
 #pragma once

@@ -11,8 +11,8 @@
 #include <mutex>
 #include <vector>
 
+#include "core/ray_offset.h"
 #include "render/progress.h"
-#include "render/ray_offset.h"
 #include "render/shading.h"
 #include "render/tile_scheduler.h"
 

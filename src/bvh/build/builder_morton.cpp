@@ -1,0 +1,211 @@
+// Morton builder (linear BVH, Lauterbach et al. 2009): the fast, lower-quality
+// build for per-frame rebuilds of deforming scenes, what Embree's LOW quality
+// does too. Each centroid is quantised to a 1024^3 grid over the centroid
+// bounds and its 30-bit Morton code sorted (stable LSD radix, 3 passes of 10
+// bits, parallel over fixed chunks: equal codes keep ascending indices). A
+// node splits its sorted range where its highest differing code bit turns to
+// 1 (binary search); where all its codes are equal, or the depth guard of
+// sah.h says so, it splits at the middle: the object-median fallback of the
+// other builders (the floor(n/2) smallest indices left when codes tie). A
+// range of at most max_leaf_size primitives is a leaf. No SAH: the bins and
+// SAH options are checked, not used. Ranges of at least parallel_cutoff
+// primitives build their halves as parallel tasks (parallel_parts.h), so the
+// tree is the same for any thread count.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
+#include <xmmintrin.h>
+
+#include <algorithm>
+#include <bit>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "bvh/build/builder_common.h"
+#include "bvh/build/builders.h"
+#include "bvh/build/parallel_parts.h"
+#include "bvh/memory/huge_buffer.h"
+#include "bvh/split/sah.h"
+
+namespace hprt {
+namespace {
+
+constexpr size_t kChunk = 16384;  // fixed work unit: never depends on the thread count
+constexpr int kRadixBits = 10;
+constexpr uint32_t kRadix = 1u << kRadixBits;
+constexpr int kCodeShift = 32;  // key = code << 32 | PrimInfo index
+
+// The 10 low bits of v spread to every third bit.
+uint32_t spread_bits(uint32_t v) {
+  v &= 0x3ffu;
+  v = (v | (v << 16)) & 0x030000ffu;
+  v = (v | (v << 8)) & 0x0300f00fu;
+  v = (v | (v << 4)) & 0x030c30c3u;
+  v = (v | (v << 2)) & 0x09249249u;
+  return v;
+}
+
+// Grid cell 0..1023 of v along one axis; in double so that a tiny extent
+// cannot overflow the scale. A flat axis maps to cell 0.
+struct AxisQuantizer {
+  double lo = 0.0, scale = 0.0;
+  AxisQuantizer(float min, float max)
+      : lo(min), scale(max > min ? double(kRadix) / (double(max) - double(min)) : 0.0) {}
+  uint32_t cell(float v) const {
+    const double f = (double(v) - lo) * scale;
+    return f > 0.0 ? static_cast<uint32_t>(std::min(f, double(kRadix - 1))) : 0u;
+  }
+};
+
+// One stable counting pass on the digit at `shift`: per-chunk histograms,
+// prefix sums in (digit, chunk) order, per-chunk scatter.
+void radix_pass(const uint64_t* src, uint64_t* dst, size_t n, int shift) {
+  const size_t chunks = (n + kChunk - 1) / kChunk;
+  std::vector<uint32_t> offsets(chunks * kRadix, 0);
+  const auto digit = [shift](uint64_t key) { return uint32_t(key >> shift) & (kRadix - 1); };
+  tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+    uint32_t* count = &offsets[c * kRadix];
+    for (size_t i = c * kChunk, e = std::min(n, i + kChunk); i < e; ++i) ++count[digit(src[i])];
+  });
+  uint32_t sum = 0;
+  for (uint32_t d = 0; d < kRadix; ++d)
+    for (size_t c = 0; c < chunks; ++c) {
+      const uint32_t k = offsets[c * kRadix + d];
+      offsets[c * kRadix + d] = sum;
+      sum += k;
+    }
+  tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
+    uint32_t* next = &offsets[c * kRadix];
+    for (size_t i = c * kChunk, e = std::min(n, i + kChunk); i < e; ++i)
+      dst[next[digit(src[i])]++] = src[i];
+  });
+}
+
+// A sequential subtree over sorted range [begin, end) is written at
+// scratch[2 * begin]: it has at most 2 (end - begin) - 1 nodes, so the
+// subtrees of disjoint ranges never overlap, and one scratch array (from the
+// buffer cache, reused by the next rebuild) serves every task.
+class MortonBuilder {
+ public:
+  MortonBuilder(const BuildOptions& o, const uint64_t* keys, size_t n, const AABB* boxes,
+                BuildNode* scratch)
+      : o_(o), keys_(keys), n_(n), boxes_(boxes), scratch_(scratch) {}
+
+  std::unique_ptr<Part> build(size_t begin, size_t end, int depth) const {
+    auto part = std::make_unique<Part>();
+    const size_t n = end - begin;
+    if (n < static_cast<size_t>(o_.parallel_cutoff) || is_leaf(n)) {
+      BuildNode* out = scratch_ + 2 * begin;
+      size_t count = 0;
+      emit(begin, end, depth, out, count);
+      part->subtree = std::span<const BuildNode>(out, count);
+      part->total = count;
+      return part;
+    }
+    const size_t mid = split(begin, end, depth);
+    tbb::parallel_invoke([&] { part->left = build(begin, mid, depth + 1); },
+                         [&] { part->right = build(mid, end, depth + 1); });
+    AABB bounds = part->left->bounds();
+    bounds.extend(part->right->bounds());
+    part->node = make_inner(bounds);
+    part->total = 1 + part->left->total + part->right->total;
+    return part;
+  }
+
+ private:
+  bool is_leaf(size_t n) const { return n <= static_cast<size_t>(o_.max_leaf_size); }
+  uint32_t code(size_t i) const { return uint32_t(keys_[i] >> kCodeShift); }
+  const AABB& box(size_t i) const { return boxes_[uint32_t(keys_[i])]; }
+
+  // Sequential subtree of [begin, end) appended in preorder to out[count...],
+  // where out[0] is the subtree's root (right children are indices into
+  // `out`). Returns its bounds.
+  AABB emit(size_t begin, size_t end, int depth, BuildNode* out, size_t& count) const {
+    const size_t self = count++;
+    if (is_leaf(end - begin)) {
+      AABB box;
+      for (size_t i = begin; i < end; ++i) {
+        // Leaves come in sorted order and read the boxes at random.
+        if (i + kPrefetchAhead < n_)
+          _mm_prefetch(reinterpret_cast<const char*>(&boxes_[uint32_t(keys_[i + kPrefetchAhead])]),
+                       _MM_HINT_T0);
+        box.extend(this->box(i));
+      }
+      out[self] = make_leaf(box, begin, end - begin);
+      return box;
+    }
+    const size_t mid = split(begin, end, depth);
+    AABB box = emit(begin, mid, depth + 1, out, count);
+    const uint32_t right = static_cast<uint32_t>(count);
+    box.extend(emit(mid, end, depth + 1, out, count));
+    out[self] = make_inner(box);
+    out[self].right = right;
+    return box;
+  }
+
+  // Where [begin, end) (at least 2 primitives) splits.
+  size_t split(size_t begin, size_t end, int depth) const {
+    const uint32_t first = code(begin), last = code(end - 1);
+    if (first == last || must_split_median(depth, end - begin, kMaxBuildDepth))
+      return begin + (end - begin) / 2;
+    // Above the highest differing bit all codes of the range agree, so that
+    // bit is 0 then 1 along the sorted range.
+    const uint32_t bit = 1u << (31 - std::countl_zero(first ^ last));
+    size_t lo = begin, hi = end - 1;  // code(lo) has the bit clear, code(hi) set
+    while (hi - lo > 1) {
+      const size_t mid = lo + (hi - lo) / 2;
+      (code(mid) & bit ? hi : lo) = mid;
+    }
+    return hi;
+  }
+
+  static constexpr size_t kPrefetchAhead = 16;
+  const BuildOptions& o_;
+  const uint64_t* keys_;  // sorted
+  size_t n_;
+  const AABB* boxes_;   // PrimInfo::bounds, indexed by a key's low 32 bits
+  BuildNode* scratch_;  // 2 n nodes
+};
+
+}  // namespace
+
+BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options) {
+  validate_build_options(options);
+  BuildTree tree;
+  const size_t n = prims.size();
+  if (n == 0) return tree;
+  const AABB& cb = prims.centroid_bounds;
+  const AxisQuantizer qx(cb.min.x, cb.max.x), qy(cb.min.y, cb.max.y), qz(cb.min.z, cb.max.z);
+  const auto keys = make_huge_buffer<uint64_t>(n);
+  const auto temp = make_huge_buffer<uint64_t>(n);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, n, kChunk), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t i = r.begin(); i != r.end(); ++i) {
+          const Vec3f& c = prims.centroids[i];
+          const uint32_t code = spread_bits(qx.cell(c.x)) << 2 | spread_bits(qy.cell(c.y)) << 1 |
+                                spread_bits(qz.cell(c.z));
+          keys[i] = uint64_t(code) << kCodeShift | i;
+        }
+      });
+  // 3 passes: keys -> temp -> keys -> temp.
+  radix_pass(keys.get(), temp.get(), n, kCodeShift);
+  radix_pass(temp.get(), keys.get(), n, kCodeShift + kRadixBits);
+  radix_pass(keys.get(), temp.get(), n, kCodeShift + 2 * kRadixBits);
+  const uint64_t* sorted = temp.get();
+
+  tree.prim_order.reserve(n);
+  advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
+  tree.prim_order.resize(n);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i != r.end(); ++i)
+                        tree.prim_order[i] = static_cast<uint32_t>(sorted[i]);
+                    });
+  const auto scratch = make_huge_buffer<BuildNode>(2 * n, /*sparse=*/true);
+  const MortonBuilder builder(options, sorted, n, prims.bounds.data(), scratch.get());
+  place_parts(*builder.build(0, n, 1), tree);
+  return tree;
+}
+
+}  // namespace hprt

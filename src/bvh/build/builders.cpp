@@ -1,0 +1,24 @@
+// build_tree: picks the builder named by options.builder. All builders share
+// the canonical layout of build_tree.h; an input without valid primitives
+// gives a tree with no nodes, a single primitive a single leaf.
+#include "bvh/build/builders.h"
+
+namespace hprt {
+
+BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options) {
+  switch (options.builder) {
+    case BuilderKind::kSweep:
+      return build_sweep(prims, options);
+    case BuilderKind::kPresorted:
+      return build_presorted(prims, options);
+    case BuilderKind::kBinned:
+      return build_binned(prims, options);
+    case BuilderKind::kParallel:
+      return build_parallel(prims, options);
+    case BuilderKind::kMorton:
+      return build_morton(prims, options);
+  }
+  return build_parallel(prims, options);
+}
+
+}  // namespace hprt

@@ -1,0 +1,24 @@
+// The four builders of the report and a Morton builder, one free function
+// each, all returning the same canonical BuildTree. `build_tree` dispatches on options.builder.
+#pragma once
+
+#include "bvh/build/build_tree.h"
+#include "bvh/input/build_options.h"
+#include "bvh/input/prim_info.h"
+#include "core/tree_stats.h"
+
+namespace hprt {
+
+BuildTree build_sweep(const PrimInfo& prims, const BuildOptions& options);      // Algorithm 1
+BuildTree build_presorted(const PrimInfo& prims, const BuildOptions& options);  // Algorithm 2
+BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options);     // Algorithm 3
+BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options);   // Algorithm 5
+// Not in the report: Morton codes, no SAH (builder_morton.cpp).
+BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
+
+BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
+
+// Statistics and the 64-bit tree hash of docs/ARCHITECTURE.md (tree_stats.cpp).
+TreeStats compute_tree_stats(const BuildTree& tree, const PrimInfo& prims);
+
+}  // namespace hprt

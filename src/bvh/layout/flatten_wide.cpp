@@ -1,0 +1,299 @@
+// Node pass: which binary inner nodes become wide nodes and which are opened
+// into their wide parent's slots is chosen by dynamic programming over the
+// build tree (Ylitie, Karras & Laine, "Efficient Incoherent Ray Traversal on
+// GPUs Through Compressed Wide BVHs", HPG 2017, Sec. 4.1, with the leaves
+// kept as built): cost(n, i) = the least total surface area of the wide nodes
+// needed to cover subtree n with at most i slots, where a wide node's cost is
+// its area. Opening by largest area alone (Embree's greedy collapse) left
+// 2-3 children in most bottom nodes of our SAH trees (leaves of 1-2
+// triangles): on a 1M-triangle torus 229k bvh8 nodes against 108k here.
+// The slots of every opened binary node are contiguous (its left forest, then
+// its right), so CollapsedInner records them as ranges. A wide node's inner
+// children get consecutive indices when it is filled, depth first. Slots
+// still free then take parts of the node's leaves (split_leaves_into_free_slots).
+// Triangle pass: gather_leaf_triangles, as for the binary layout. The two
+// passes read only the build tree (and the scene), so a caller may run them
+// concurrently (flatten_wide_nodes, then set `triangles`).
+#include "bvh/layout/flatten_wide.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cstddef>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+#include "bvh/layout/flatten_bvh2.h"
+#include "bvh/memory/build_array.h"
+
+namespace hprt {
+namespace {
+
+// The collapse plan: per binary inner node n and slot budget i (1..N), the
+// least cost and how it is reached: left_slots = 0 means n takes one slot
+// itself (a wide node of its own), k > 0 that n is opened and its left
+// child's forest gets k slots, the right child's i - k. A leaf always takes
+// one slot at no cost; its entries are never written nor read.
+template <int N>
+struct CollapsePlan {
+  const BuildTree& tree;
+  BuildArray<float> cost;          // [n * N + i - 1]
+  BuildArray<uint8_t> left_slots;  // [n * N + i - 1]
+
+  const float* costs_of(uint32_t b) const {
+    static constexpr float kLeaf[N] = {};
+    return tree.nodes[b].is_leaf() ? kLeaf : &cost[size_t(b) * N];
+  }
+  int left_slots_of(uint32_t b, int i) const {
+    return tree.nodes[b].is_leaf() ? 0 : left_slots[size_t(b) * N + i - 1];
+  }
+
+  // Children have larger indices than their parent (checked), so one pass in
+  // reverse index order sees every child before its parent.
+  explicit CollapsePlan(const BuildTree& t)
+      : tree(t), cost(t.nodes.size() * N), left_slots(t.nodes.size() * N) {
+    const size_t n = tree.nodes.size();
+    for (size_t b = n; b-- > 0;) {
+      const BuildNode& node = tree.nodes[b];
+      if (node.is_leaf()) continue;
+      if (b + 1 >= n || node.right >= n || node.right <= b)
+        throw std::invalid_argument("flatten: malformed build tree");
+      float* c = &cost[b * N];
+      uint8_t* k = &left_slots[b * N];
+      c[0] = node.bounds.half_area();
+      k[0] = 0;
+      if (tree.nodes[b + 1].is_leaf() && tree.nodes[node.right].is_leaf()) {
+        // Two leaves: a wide node of its own costs its area, opening nothing.
+        for (int i = 2; i <= N; ++i) {
+          c[i - 1] = 0.0f;
+          k[i - 1] = 1;
+        }
+        continue;
+      }
+      const float* l = costs_of(uint32_t(b + 1));
+      const float* r = costs_of(node.right);
+      // open[i - 1]: n opened, its children sharing at most i slots (i >= 2).
+      float open[N];
+      uint8_t open_k[N];
+      for (int i = 2; i <= N; ++i) {
+        open[i - 1] = l[0] + r[i - 2];
+        open_k[i - 1] = 1;
+        for (int j = 2; j < i; ++j) {
+          const float v = l[j - 1] + r[i - j - 1];
+          if (v < open[i - 1]) {
+            open[i - 1] = v;
+            open_k[i - 1] = uint8_t(j);
+          }
+        }
+      }
+      // As a wide node of its own, n costs its area plus its best N-slot
+      // forest; with more slots the plan opens n where that is cheaper.
+      c[0] += open[N - 1];
+      for (int i = 2; i <= N; ++i) {
+        const bool opened = open[i - 1] < c[0];
+        c[i - 1] = opened ? open[i - 1] : c[0];
+        k[i - 1] = opened ? open_k[i - 1] : 0;
+      }
+    }
+  }
+
+  // How the N slots of the wide node made from inner node b split between
+  // its children.
+  int root_left_slots(uint32_t b) const {
+    const float* l = costs_of(b + 1);
+    const float* r = costs_of(tree.nodes[b].right);
+    int best = 1;
+    for (int j = 2; j < N; ++j)
+      if (l[j - 1] + r[N - j - 1] < l[best - 1] + r[N - best - 1]) best = j;
+    return best;
+  }
+};
+
+struct Filler {
+  const BuildTree& tree;
+  size_t visited = 0;  // binary nodes placed (wide roots, opened, leaves)
+
+  // Counts a placed node; a node reached twice (a DAG, not a tree) is caught
+  // here before the walk can grow past the tree's size.
+  void place() {
+    if (++visited > tree.nodes.size())
+      throw std::invalid_argument("flatten: build tree is not a single binary tree");
+  }
+
+  NodeRef leaf_ref(uint32_t b) {
+    const BuildNode& bn = tree.nodes[b];
+    if (size_t(bn.first) + bn.count > tree.prim_order.size())
+      throw std::invalid_argument("flatten: leaf range past prim_order");
+    if (bn.count > NodeRef::kMaxLeafCount)
+      throw std::invalid_argument("flatten: a leaf of more than 255 triangles");
+    place();
+    return NodeRef::leaf(bn.first, bn.count);
+  }
+};
+
+// Appends the slots of subtree b given at most i of them, recording each
+// opened node's slot range.
+template <int N>
+void expand(const CollapsePlan<N>& plan, const BuildTree& tree, Filler& f, uint32_t b, int i,
+            uint32_t* slot, int& k, CollapsedInner<N>& col) {
+  const int left = plan.left_slots_of(b, i);
+  if (left == 0) {
+    slot[k++] = b;
+    return;
+  }
+  f.place();
+  const int begin = k;
+  expand(plan, tree, f, b + 1, left, slot, k, col);
+  expand(plan, tree, f, tree.nodes[b].right, i - left, slot, k, col);
+  col.begin[col.count] = uint8_t(begin);
+  col.end[col.count] = uint8_t(k);
+  ++col.count;
+}
+
+// Slots the collapse left free (k < N) take parts of the node's leaves: the
+// leaf with the most triangles (the first of them on a tie) is halved in
+// leaf order, its parts in adjacent slots, until the slots are full or every
+// leaf holds one triangle. A slot box test is far cheaper than a triangle
+// test, and Morton leaves are not chosen by SAH: leaves of up to
+// max_leaf_size all over (SAH trees barely change). The
+// binary tree's leaves are recorded as slot ranges, so its SAH cost can
+// still be computed from the layout; each part keeps the verts block of its
+// binary leaf (NodeRef::leaf_part).
+template <int N>
+void split_leaves_into_free_slots(WideNode<N>& node, CollapsedInner<N>& col, const BuildTree& tree,
+                                  const PrimInfo& prims) {
+  int k = 0;  // slots in use: the first k
+  while (k < N && !node.child[k].empty()) ++k;
+  const auto range_box = [&](uint32_t first, uint32_t end) {
+    AABB box;
+    for (uint32_t j = first; j < end; ++j) box.extend(prims.bounds[tree.prim_order[j]]);
+    return box;
+  };
+  while (k < N) {
+    int best = -1;
+    uint32_t most = 1;
+    for (int i = 0; i < k; ++i)
+      if (node.child[i].is_leaf() && node.child[i].count() > most) {
+        best = i;
+        most = node.child[i].count();
+      }
+    if (best < 0) return;
+    for (int i = k; i > best + 1; --i) {
+      node.child[i] = node.child[i - 1];
+      node.set_box(i, node.box(i - 1));
+    }
+    ++k;
+    const LeafRange whole = node.child[best].leaf_range();
+    const uint32_t first = whole.first, half = most / 2;
+    node.child[best] = NodeRef::leaf_part(first, half, whole.block_first, whole.block_count);
+    node.set_box(best, range_box(first, first + half));
+    node.child[best + 1] =
+        NodeRef::leaf_part(first + half, most - half, whole.block_first, whole.block_count);
+    node.set_box(best + 1, range_box(first + half, first + most));
+    // Ranges after the split slot move one on; a range holding it grows.
+    const auto shift = [best](uint8_t& begin, uint8_t& end) {
+      if (begin > best) ++begin;
+      if (end > best) ++end;
+    };
+    for (int r = 0; r < col.count; ++r) shift(col.begin[r], col.end[r]);
+    bool grown = false;
+    for (int r = 0; r < col.split_leaves; ++r) {
+      grown = grown || (col.leaf_begin[r] <= best && best < col.leaf_end[r]);
+      shift(col.leaf_begin[r], col.leaf_end[r]);
+    }
+    if (!grown) {
+      col.leaf_begin[col.split_leaves] = uint8_t(best);
+      col.leaf_end[col.split_leaves] = uint8_t(best + 2);
+      ++col.split_leaves;
+    }
+  }
+}
+
+}  // namespace
+
+template <int N>
+WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
+  WideBvh<N> out;
+  const size_t n = tree.nodes.size();
+  if (n == 0) return out;
+  if (tree.prim_order.size() != prims.size())
+    throw std::invalid_argument("flatten: prim_order does not match PrimInfo");
+
+  Filler f{tree};
+  if (tree.nodes[0].is_leaf()) {
+    out.root = f.leaf_ref(0);
+  } else {
+    const CollapsePlan<N> plan(tree);
+    // A wide node holds at least 2 binary nodes' worth of children, so there
+    // are at most (n - 1) / 2 of them: reserve once, no reallocation.
+    out.nodes.reserve((n - 1) / 2 + 1);
+    out.collapsed.reserve((n - 1) / 2 + 1);
+    out.nodes.emplace_back();
+    out.collapsed.emplace_back();
+    out.root = NodeRef::inner(0);
+    std::vector<std::pair<uint32_t, uint32_t>> todo;  // (build node, wide node)
+    todo.emplace_back(0u, 0u);
+    while (!todo.empty()) {
+      const auto [b, w] = todo.back();
+      todo.pop_back();
+      f.place();
+      uint32_t slot[N];
+      int k = 0;
+      CollapsedInner<N> col;
+      const int left = plan.root_left_slots(b);
+      expand(plan, tree, f, b + 1, left, slot, k, col);
+      expand(plan, tree, f, f.tree.nodes[b].right, N - left, slot, k, col);
+      WideNode<N> node;
+      for (int i = 0; i < N; ++i) node.clear_slot(i);
+      const size_t pushed_from = todo.size();
+      for (int i = 0; i < k; ++i) {
+        const BuildNode& c = tree.nodes[slot[i]];
+        node.set_box(i, c.bounds);
+        if (c.is_leaf()) {
+          node.child[i] = f.leaf_ref(slot[i]);
+        } else {
+          const uint32_t child = uint32_t(out.nodes.size());
+          out.nodes.emplace_back();
+          out.collapsed.emplace_back();
+          node.child[i] = NodeRef::inner(child);
+          todo.emplace_back(slot[i], child);
+        }
+      }
+      // Visit the first child's subtree first (depth first, in slot order).
+      std::reverse(todo.begin() + std::ptrdiff_t(pushed_from), todo.end());
+      out.nodes[w] = node;
+      out.collapsed[w] = col;
+    }
+  }
+  if (f.visited != n)
+    throw std::invalid_argument("flatten: build tree is not a single binary tree");
+  // Each node on its own, in parallel: the part boxes are read at random
+  // from the prim boxes, which on one thread was the longest part of the
+  // node pass.
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.nodes.size(), 1024),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t w = r.begin(); w != r.end(); ++w)
+                        split_leaves_into_free_slots(out.nodes[w], out.collapsed[w], tree, prims);
+                    });
+  return out;
+}
+
+template <int N>
+WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
+                        TriangleArrays arrays) {
+  WideBvh<N> out = flatten_wide_nodes<N>(tree, prims);
+  out.triangles = gather_leaf_triangles(tree, prims, scene, arrays);
+  return out;
+}
+
+template WideBvh<4> flatten_wide_nodes<4>(const BuildTree&, const PrimInfo&);
+template WideBvh<8> flatten_wide_nodes<8>(const BuildTree&, const PrimInfo&);
+template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&,
+                                    TriangleArrays);
+template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&,
+                                    TriangleArrays);
+
+}  // namespace hprt

@@ -1,0 +1,93 @@
+// Tests of make_prim_info: valid triangles only, refs, boxes, centroids, bounds.
+#include <gtest/gtest.h>
+
+#include <vector>
+
+#include "bvh/input/prim_info.h"
+#include "core/parallel.h"
+#include "tests/support/bvh_test_meshes.h"
+
+namespace hprt::test {
+namespace {
+
+TEST(PrimInfo, KeepsValidTrianglesWithTheirRefs) {
+  Scene s;
+  s.add_mesh(with_invalid_triangles());
+  s.add_mesh(random_soup(3, 1));
+  const PrimInfo p = make_prim_info(s);
+  ASSERT_EQ(p.size(), 9u);
+  EXPECT_EQ(p.invalid, 5u);
+  const std::vector<PrimRef> want = {{0, 0},  {0, 2}, {0, 4}, {0, 6}, {0, 8},
+                                     {0, 10}, {1, 0}, {1, 1}, {1, 2}};
+  EXPECT_EQ(std::vector<PrimRef>(p.refs.begin(), p.refs.end()), want);
+  EXPECT_EQ(p.bounds[1], AABB({2, 0, 0}, {3, 1, 0}));
+  EXPECT_EQ(p.centroids[1], (Vec3f{2.5f, 0.5f, 0.0f}));
+  AABB sb, cb;
+  for (size_t i = 0; i < p.size(); ++i) {
+    sb.extend(p.bounds[i]);
+    cb.extend(p.centroids[i]);
+  }
+  EXPECT_EQ(p.scene_bounds, sb);
+  EXPECT_EQ(p.centroid_bounds, cb);
+}
+
+TEST(PrimInfo, SameResultForAnyThreadCount) {
+  Scene s;
+  TriangleMesh m = random_soup(100000, 2);
+  for (size_t i = 0; i < m.triangles.size(); i += 97) m.triangles[i][1] = m.triangles[i][0];
+  s.add_mesh(m);
+  s.add_mesh(grid(50, 50));
+  const PrimInfo one = run_with_threads(1, [&] { return make_prim_info(s); });
+  const PrimInfo many = run_with_threads(7, [&] { return make_prim_info(s); });
+  EXPECT_EQ(one.invalid, (100000 + 96) / 97);
+  EXPECT_EQ(one.size(), 100000 + 5000 - one.invalid);
+  EXPECT_EQ(one.bounds, many.bounds);
+  EXPECT_EQ(one.centroids, many.centroids);
+  EXPECT_EQ(one.refs, many.refs);
+  EXPECT_EQ(one.scene_bounds, many.scene_bounds);
+  EXPECT_EQ(one.centroid_bounds, many.centroid_bounds);
+}
+
+// Invalid triangles in many chunks (one chunk all invalid, a mesh all
+// invalid): the gaps they leave are closed, everything in input order.
+TEST(PrimInfo, MatchesASequentialReferenceAcrossChunks) {
+  Scene s;
+  TriangleMesh a = random_soup(60000, 3);
+  for (size_t i = 0; i < a.triangles.size(); i += 61) a.triangles[i][2] = a.triangles[i][0];
+  for (size_t i = 16384; i < 40000; ++i) a.triangles[i][1] = a.triangles[i][0];  // chunk 1 whole
+  TriangleMesh dead = random_soup(5, 4);
+  for (auto& t : dead.triangles) t[1] = t[0];
+  s.add_mesh(a);
+  s.add_mesh(dead);
+  s.add_mesh(grid(120, 120));
+  std::vector<AABB> bounds;
+  std::vector<Vec3f> centroids;
+  std::vector<PrimRef> refs;
+  for (size_t g = 0; g < s.meshes.size(); ++g) {
+    const TriangleMesh& m = s.meshes[g];
+    for (size_t i = 0; i < m.triangle_count(); ++i) {
+      if (!m.triangle_valid(i)) continue;
+      AABB b;
+      for (int k = 0; k < 3; ++k) b.extend(m.positions[m.triangles[i][k]]);
+      bounds.push_back(b);
+      centroids.push_back(b.center());
+      refs.push_back({uint32_t(g), uint32_t(i)});
+    }
+  }
+  const PrimInfo p = run_with_threads(2, [&] { return make_prim_info(s); });
+  EXPECT_EQ(p.invalid, 60000 + 5 + 2 * 120 * 120 - refs.size());
+  EXPECT_GT(p.invalid, 20000u);
+  EXPECT_EQ(std::vector<AABB>(p.bounds.begin(), p.bounds.end()), bounds);
+  EXPECT_EQ(std::vector<Vec3f>(p.centroids.begin(), p.centroids.end()), centroids);
+  EXPECT_EQ(std::vector<PrimRef>(p.refs.begin(), p.refs.end()), refs);
+}
+
+TEST(PrimInfo, EmptyScene) {
+  const PrimInfo p = make_prim_info(Scene{});
+  EXPECT_EQ(p.size(), 0u);
+  EXPECT_EQ(p.invalid, 0u);
+  EXPECT_TRUE(p.scene_bounds.empty());
+}
+
+}  // namespace
+}  // namespace hprt::test

@@ -1,0 +1,157 @@
+// Ray/triangle tests: known t/u/v (Embree's u,v convention), back faces,
+// edges and vertices, the (tnear, tfar] interval, and watertightness along
+// shared edges and at a shared vertex.
+#include "bvh/intersect/ray_triangle.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "tests/support/bvh_test_meshes.h"
+
+namespace hprt {
+namespace {
+
+Ray make_ray(Vec3f o, Vec3f d, float tnear = 0.0f,
+             float tfar = std::numeric_limits<float>::infinity()) {
+  Ray r;
+  r.org = o;
+  r.dir = d;
+  r.tnear = tnear;
+  r.tfar = tfar;
+  return r;
+}
+
+template <typename Test>
+bool hit_test(const Ray& r, Vec3f a, Vec3f b, Vec3f c, TriangleHit& h) {
+  const auto p = Test::prepare(r);
+  if constexpr (std::is_same_v<Test, MollerTest>)
+    return Test::intersect_vertices(p, a, b, c, r.tnear, r.tfar, h);
+  else
+    return Test::intersect(p, a, b, c, r.tnear, r.tfar, h);
+}
+
+template <typename T>
+class TriangleTest : public ::testing::Test {};
+using Tests = ::testing::Types<WatertightTest, MollerTest>;
+TYPED_TEST_SUITE(TriangleTest, Tests);
+
+const Vec3f kA{0, 0, 0}, kB{1, 0, 0}, kC{0, 1, 0};
+
+TYPED_TEST(TriangleTest, KnownHitUsesEmbreeBarycentrics) {
+  TriangleHit h{};
+  ASSERT_TRUE(hit_test<TypeParam>(make_ray({0.25f, 0.5f, 2.0f}, {0, 0, -1}), kA, kB, kC, h));
+  EXPECT_FLOAT_EQ(h.t, 2.0f);
+  EXPECT_FLOAT_EQ(h.u, 0.25f);  // weight of v1 = (1,0,0)
+  EXPECT_FLOAT_EQ(h.v, 0.5f);   // weight of v2 = (0,1,0)
+  // Not unit length and oblique: t scales with 1/|dir|.
+  ASSERT_TRUE(hit_test<TypeParam>(make_ray({0.25f, 0.5f, 2.0f}, {0, 0, -4}), kA, kB, kC, h));
+  EXPECT_FLOAT_EQ(h.t, 0.5f);
+  ASSERT_TRUE(
+      hit_test<TypeParam>(make_ray({-0.75f, 0.5f, 1.0f}, {1.0f, 0.0f, -1.0f}), kA, kB, kC, h));
+  EXPECT_FLOAT_EQ(h.t, 1.0f);
+  EXPECT_FLOAT_EQ(h.u, 0.25f);
+  EXPECT_FLOAT_EQ(h.v, 0.5f);
+}
+
+TYPED_TEST(TriangleTest, BackFaceHitsAndMissesOutside) {
+  TriangleHit h{};
+  ASSERT_TRUE(hit_test<TypeParam>(make_ray({0.2f, 0.3f, -3.0f}, {0, 0, 1}), kA, kB, kC, h));
+  EXPECT_FLOAT_EQ(h.t, 3.0f);
+  EXPECT_FLOAT_EQ(h.u, 0.2f);
+  EXPECT_FLOAT_EQ(h.v, 0.3f);
+  EXPECT_FALSE(hit_test<TypeParam>(make_ray({0.6f, 0.6f, 1.0f}, {0, 0, -1}), kA, kB, kC, h));
+  EXPECT_FALSE(hit_test<TypeParam>(make_ray({-0.1f, 0.5f, 1.0f}, {0, 0, -1}), kA, kB, kC, h));
+  EXPECT_FALSE(hit_test<TypeParam>(make_ray({0.2f, 0.2f, 1.0f}, {0, 0, 1}), kA, kB, kC, h));
+  // Parallel to the plane.
+  EXPECT_FALSE(hit_test<TypeParam>(make_ray({-1.0f, 0.2f, 0.5f}, {1, 0, 0}), kA, kB, kC, h));
+}
+
+TYPED_TEST(TriangleTest, EdgesAndVerticesHit) {
+  TriangleHit h{};
+  const Vec3f pts[] = {{0.5f, 0.0f, 0}, {0.0f, 0.5f, 0}, {0.5f, 0.5f, 0},
+                       {0, 0, 0},       {1, 0, 0},       {0, 1, 0}};
+  for (const Vec3f& p : pts) {
+    EXPECT_TRUE(hit_test<TypeParam>(make_ray(p + Vec3f{0, 0, 1}, {0, 0, -1}), kA, kB, kC, h))
+        << p.x << "," << p.y;
+    EXPECT_FLOAT_EQ(h.t, 1.0f);
+  }
+}
+
+TYPED_TEST(TriangleTest, IntervalIsEmbreesOpenNearClosedFar) {
+  TriangleHit h{};
+  const Vec3f o{0.25f, 0.25f, 2.0f}, d{0, 0, -1};
+  EXPECT_TRUE(hit_test<TypeParam>(make_ray(o, d, 0.0f, 2.0f), kA, kB, kC, h));  // t == tfar
+  EXPECT_FALSE(hit_test<TypeParam>(make_ray(o, d, 0.0f, 1.999f), kA, kB, kC, h));
+  EXPECT_TRUE(hit_test<TypeParam>(make_ray(o, d, 1.999f, 5.0f), kA, kB, kC, h));
+  EXPECT_FALSE(hit_test<TypeParam>(make_ray(o, d, 2.0f, 5.0f), kA, kB, kC, h));  // t == tnear
+  EXPECT_FALSE(hit_test<TypeParam>(make_ray(o, d, 2.5f, 5.0f), kA, kB, kC, h));
+  // Behind the origin: negative t is outside [0, inf).
+  EXPECT_FALSE(hit_test<TypeParam>(make_ray({0.25f, 0.25f, -2.0f}, d), kA, kB, kC, h));
+}
+
+// 16 triangles around a shared centre vertex; rays from random points above
+// aimed at points of the shared edges and at the centre. The watertight test
+// must hit at least one triangle for every ray; Möller-Trumbore is only
+// reported (it can leak through edges).
+TEST(TriangleTestWatertight, FanEdgesAndVertexNeverLeak) {
+  constexpr int kFan = 16;
+  const Vec3f centre{0.1f, -0.2f, 0.3f};
+  std::vector<Vec3f> rim;
+  for (int k = 0; k < kFan; ++k) {
+    const float a = 2.0f * 3.14159265f * float(k) / kFan;
+    rim.push_back(centre + Vec3f{std::cos(a), std::sin(a), 0.1f * std::sin(3.0f * a)});
+  }
+  test::Rng rng(7);
+  int misses_wt = 0, misses_mt = 0;
+  for (int i = 0; i < 10000; ++i) {
+    const int k = i % kFan;
+    const float s = (i % 10 == 0) ? 0.0f : 0.01f + 0.9f * rng.uniform();
+    const Vec3f target = centre + (rim[k] - centre) * s;
+    const Vec3f org{target.x + 2.0f * (rng.uniform() - 0.5f),
+                    target.y + 2.0f * (rng.uniform() - 0.5f), 2.0f + rng.uniform()};
+    const Ray r = make_ray(org, target - org);
+    bool any_wt = false, any_mt = false;
+    for (int f = 0; f < kFan; ++f) {
+      TriangleHit h{};
+      const Vec3f& b = rim[f];
+      const Vec3f& c = rim[(f + 1) % kFan];
+      any_wt |= hit_test<WatertightTest>(r, centre, b, c, h);
+      any_mt |= hit_test<MollerTest>(r, centre, b, c, h);
+    }
+    misses_wt += !any_wt;
+    misses_mt += !any_mt;
+  }
+  EXPECT_EQ(misses_wt, 0);
+  std::printf("[ info ] fan of %d, 10000 edge/vertex rays: watertight misses %d, MT misses %d\n",
+              kFan, misses_wt, misses_mt);
+}
+
+TEST(TriangleTestWatertight, BarycentricsMatchMollerOnRandomHits) {
+  test::Rng rng(3);
+  int hits = 0;
+  for (int i = 0; i < 2000; ++i) {
+    auto p = [&] { return Vec3f{rng.uniform(), rng.uniform(), rng.uniform()}; };
+    const Vec3f a = p(), b = p(), c = p();
+    const float wu = rng.uniform() * 0.5f, wv = rng.uniform() * 0.5f;
+    const Vec3f target = a * (1 - wu - wv) + b * wu + c * wv;
+    const Vec3f org = p() * 4.0f - Vec3f{2, 2, 2};
+    const Ray r = make_ray(org, target - org);
+    TriangleHit hw{}, hm{};
+    const bool w = hit_test<WatertightTest>(r, a, b, c, hw);
+    const bool m = hit_test<MollerTest>(r, a, b, c, hm);
+    if (!w || !m) continue;
+    ++hits;
+    EXPECT_NEAR(hw.t, 1.0f, 1e-3f);
+    EXPECT_NEAR(hw.u, wu, 2e-3f);
+    EXPECT_NEAR(hw.v, wv, 2e-3f);
+    EXPECT_NEAR(hw.u, hm.u, 2e-3f);
+    EXPECT_NEAR(hw.v, hm.v, 2e-3f);
+  }
+  EXPECT_GT(hits, 1800);
+}
+
+}  // namespace
+}  // namespace hprt

@@ -1,0 +1,145 @@
+// Tests of the SAH cost functions (sah.h) and the binning helpers (binning.h).
+#include <gtest/gtest.h>
+
+#include "bvh/split/binning.h"
+#include "bvh/split/sah.h"
+
+namespace hprt {
+namespace {
+
+TEST(Sah, CostsFollowEquationOne) {
+  SahParams p;
+  p.traversal_cost = 2.0f;
+  p.intersection_cost = 3.0f;
+  // Scaled by SA(P) = 10: leaf = 3 * 4 * 10, split = 2*10 + 3*(4*1 + 6*3).
+  EXPECT_FLOAT_EQ(sah_leaf_cost(p, 10.0f, 4), 120.0f);
+  EXPECT_FLOAT_EQ(sah_split_cost(p, 10.0f, 4.0f, 1, 6.0f, 3), 20.0f + 3.0f * 22.0f);
+}
+
+TEST(Sah, LeafRule) {
+  const SahParams p;                                     // 1, 1
+  EXPECT_TRUE(sah_make_leaf(p, 4, 1.0f, 1, 0.0f));       // one primitive: always a leaf
+  EXPECT_FALSE(sah_make_leaf(p, 4, 1.0f, 5, kNoSplit));  // over the limit: never
+  EXPECT_TRUE(sah_make_leaf(p, 4, 1.0f, 4, 4.0f));       // equal cost: leaf
+  EXPECT_FALSE(sah_make_leaf(p, 4, 1.0f, 4, 3.9f));      // split cheaper
+  EXPECT_TRUE(sah_make_leaf(p, 4, 1.0f, 3, kNoSplit));   // no split at all
+}
+
+TEST(Sah, DepthGuard) {
+  EXPECT_EQ(ceil_log2(1), 0);
+  EXPECT_EQ(ceil_log2(2), 1);
+  EXPECT_EQ(ceil_log2(5), 3);
+  EXPECT_EQ(ceil_log2(1024), 10);
+  EXPECT_FALSE(must_split_median(1, 1000000, 64));
+  EXPECT_TRUE(must_split_median(54, 1024, 64));
+  EXPECT_FALSE(must_split_median(53, 1024, 64));
+}
+
+TEST(Binning, MappingCoversAllBins) {
+  const AABB cb({0, 0, 0}, {1, 2, 0});
+  const BinMapping m(cb, 8);
+  EXPECT_TRUE(m.usable[0]);
+  EXPECT_TRUE(m.usable[1]);
+  EXPECT_FALSE(m.usable[2]);  // zero extent: skipped
+  EXPECT_EQ(m.bin(0.0f, 0), 0);
+  EXPECT_EQ(m.bin(1.0f, 0), 7);
+  EXPECT_EQ(m.bin(2.0f, 1), 7);
+  EXPECT_EQ(m.bin(0.49f, 0), 3);
+  EXPECT_EQ(m.bin(0.51f, 0), 4);
+  EXPECT_EQ(m.bin(-5.0f, 0), 0);  // clamped
+  EXPECT_EQ(m.bin(9.0f, 0), 7);
+  EXPECT_FALSE(BinMapping(AABB({1, 1, 1}, {1, 1, 1}), 8).any_usable());
+}
+
+TEST(Binning, FindsTheObviousSplitAndBreaksTiesByAxis) {
+  // Two unit boxes far apart on x and on y alike (same geometry on both axes):
+  // the cut must separate them, on axis 0 (lowest axis wins ties).
+  const AABB a({0, 0, 0}, {1, 1, 1}), b({9, 9, 0}, {10, 10, 1});
+  AABB cb;
+  cb.extend(a.center());
+  cb.extend(b.center());
+  const BinMapping m(cb, 16);
+  Bins bins(16);
+  bins.add(m, a, a.center());
+  bins.add(m, b, b.center());
+  std::vector<float> sa;
+  std::vector<uint32_t> sc;
+  AABB parent = a;
+  parent.extend(b);
+  const BinnedSplit s = find_binned_split(bins, m, SahParams{}, parent.half_area(), sa, sc);
+  EXPECT_EQ(s.axis, 0);
+  EXPECT_EQ(s.cut, 0);  // lowest cut among the equal-cost ones
+  EXPECT_EQ(s.left_count, 1u);
+  EXPECT_EQ(s.right_count, 1u);
+  EXPECT_EQ(s.left_bounds, a);
+  EXPECT_EQ(s.right_bounds, b);
+  EXPECT_FLOAT_EQ(s.cost, sah_split_cost(SahParams{}, parent.half_area(), 3.0f, 1, 3.0f, 1));
+}
+
+TEST(Binning, MergeIsExactInAnyOrder) {
+  const BinMapping m(AABB({0, 0, 0}, {1, 1, 1}), 4);
+  Bins x(4), y(4), z(4), all(4);
+  for (int i = 0; i < 30; ++i) {
+    const float f = float(i) / 29.0f;
+    const AABB box({f, f * f, 1 - f}, {f + 0.1f, f * f + 0.3f, 1.2f - f});
+    const Vec3f c = box.center();
+    (i % 3 == 0 ? x : (i % 3 == 1 ? y : z)).add(m, box, c);
+    all.add(m, box, c);
+  }
+  Bins xyz = x, zyx = z;
+  xyz.merge(y);
+  xyz.merge(z);
+  zyx.merge(y);
+  zyx.merge(x);
+  for (size_t i = 0; i < all.boxes.size(); ++i) {
+    EXPECT_EQ(xyz.box(i), all.box(i));
+    EXPECT_EQ(zyx.box(i), all.box(i));
+  }
+  EXPECT_EQ(xyz.counts, all.counts);
+  EXPECT_EQ(zyx.counts, all.counts);
+}
+
+// The small-node shortcut must give the bins' answer bit for bit.
+TEST(Binning, SmallNodeShortcutEqualsBins) {
+  uint64_t seed = 7;
+  auto rnd = [&] {
+    seed = seed * 6364136223846793005ull + 1442695040888963407ull;
+    return float(seed >> 40) / float(1 << 24);
+  };
+  for (int trial = 0; trial < 300; ++trial) {
+    const size_t n = 2 + trial % (kSmallNodeMax - 1);
+    const int bin_count = trial % 3 == 0 ? 4 : 32;
+    std::vector<AABB> boxes;
+    std::vector<Vec3f> cents;
+    std::vector<BoxRef> refs;
+    AABB parent, cb;
+    for (size_t i = 0; i < n; ++i) {
+      // Coarse positions make shared bins and equal costs (ties) likely.
+      const Vec3f lo{float(int(rnd() * 4)), float(int(rnd() * 3)), rnd()};
+      const AABB b(lo, lo + Vec3f{0.5f + rnd(), 0.5f, 0.25f + float(i % 2)});
+      boxes.push_back(b);
+      cents.push_back(b.center());
+      refs.push_back(make_box_ref(b, static_cast<uint32_t>(i)));
+      parent.extend(b);
+      cb.extend(b.center());
+    }
+    const BinMapping m(cb, bin_count);
+    Bins bins(bin_count);
+    for (size_t i = 0; i < n; ++i) bins.add(m, boxes[i], cents[i]);
+    std::vector<float> sa;
+    std::vector<uint32_t> sc;
+    const BinnedSplit a = find_binned_split(bins, m, SahParams{}, parent.half_area(), sa, sc);
+    const BinnedSplit b =
+        find_binned_split_small(refs.data(), n, m, SahParams{}, parent.half_area());
+    ASSERT_EQ(a.axis, b.axis) << trial;
+    EXPECT_EQ(a.cut, b.cut) << trial;
+    EXPECT_EQ(a.cost, b.cost) << trial;
+    EXPECT_EQ(a.left_count, b.left_count) << trial;
+    EXPECT_EQ(a.right_count, b.right_count) << trial;
+    EXPECT_EQ(a.left_bounds, b.left_bounds) << trial;
+    EXPECT_EQ(a.right_bounds, b.right_bounds) << trial;
+  }
+}
+
+}  // namespace
+}  // namespace hprt
