@@ -16,7 +16,7 @@
 #include "bench/bench_embree_bvh.h"
 #include "bench/bench_inputs.h"
 #include "bench/bench_timing.h"
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "bvh/layout/flatten_bvh2.h"
 #include "bvh/layout/flatten_wide.h"
 #include "core/error.h"

@@ -16,7 +16,7 @@
 #include <memory>
 #include <string>
 
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "core/parallel.h"
 #include "core/scene.h"
 #include "io/mesh_reader.h"

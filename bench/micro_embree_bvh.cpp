@@ -11,7 +11,7 @@
 #include <vector>
 
 #include "bench/bench_embree_bvh.h"
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "core/parallel.h"
 #include "io/generate_mesh.h"
 #include "io/scene_reader.h"

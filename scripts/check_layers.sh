@@ -20,7 +20,7 @@ declare -A allowed=(
   [src/cli]="core io anim bvh backends render validators bench"
 )
 # src/bvh's parts, lowest first.
-bvh_parts=(memory input split build layout intersect traverse refit)
+bvh_parts=(memory input split builders layout intersect traverse refit)
 
 bad=0
 for dir in "${!allowed[@]}"; do

@@ -20,7 +20,7 @@
 #include <string>
 #include <vector>
 
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "bvh/layout/flatten_bvh2.h"
 #include "bvh/layout/flatten_wide.h"
 #include "bvh/memory/huge_buffer.h"

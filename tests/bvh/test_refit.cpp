@@ -13,7 +13,7 @@
 #include <vector>
 
 #include "anim/scene_animator.h"
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "bvh/layout/flatten_bvh2.h"
 #include "bvh/layout/flatten_wide.h"
 #include "bvh/refit/refit_bvh2.h"

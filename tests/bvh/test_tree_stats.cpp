@@ -7,7 +7,7 @@
 #include <utility>
 #include <vector>
 
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "core/parallel.h"
 #include "tests/support/bvh_test_meshes.h"
 

@@ -8,7 +8,7 @@
 #include <algorithm>
 #include <vector>
 
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "core/error.h"
 #include "core/tree_stats.h"
 #include "tests/support/bvh_test_meshes.h"

@@ -13,7 +13,7 @@
 #include <utility>
 #include <vector>
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/input/prim_info.h"
 #include "core/scene.h"
 #include "core/splitmix64.h"

@@ -9,7 +9,7 @@
 #include <limits>
 #include <vector>
 
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "bvh/layout/flatten_bvh2.h"
 #include "bvh/traverse/traverse_bvh2.h"
 #include "tests/support/bvh_test_meshes.h"

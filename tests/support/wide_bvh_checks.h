@@ -10,7 +10,7 @@
 #include <string>
 #include <vector>
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/layout/wide_bvh.h"
 #include "core/scene.h"
 

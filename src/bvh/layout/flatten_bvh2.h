@@ -3,7 +3,7 @@
 // their precomputed test data (pbrt: BVHBuildNode -> LinearBVHNode).
 #pragma once
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/input/prim_info.h"
 #include "bvh/layout/bvh2.h"
 #include "core/scene.h"

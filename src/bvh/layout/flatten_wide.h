@@ -6,7 +6,7 @@
 // one build trace the same triangles.
 #pragma once
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/input/prim_info.h"
 #include "bvh/layout/wide_bvh.h"
 #include "core/scene.h"

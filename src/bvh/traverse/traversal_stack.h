@@ -6,7 +6,7 @@
 
 #include <cstdint>
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 
 namespace hprt {
 

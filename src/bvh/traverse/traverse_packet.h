@@ -49,7 +49,7 @@
 #include <limits>
 #include <type_traits>
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/intersect/leaf_intersect.h"
 #include "bvh/intersect/ray_box.h"
 #include "bvh/intersect/ray_triangle_lanes.h"

@@ -11,7 +11,7 @@
 
 #include <cstdint>
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/intersect/ray_box_wide.h"
 #include "bvh/layout/wide_bvh.h"
 #include "bvh/traverse/traverse_bvh2.h"

@@ -12,7 +12,7 @@
 #include <utility>
 #include <vector>
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/input/build_options.h"
 #include "bvh/input/prim_info.h"
 #include "core/error.h"

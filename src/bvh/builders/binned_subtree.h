@@ -9,7 +9,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/input/box_ref.h"
 #include "bvh/input/build_options.h"
 #include "bvh/split/binning.h"

@@ -7,9 +7,9 @@
 #include <stdexcept>
 #include <tuple>
 
-#include "bvh/build/binned_subtree.h"
-#include "bvh/build/builder_common.h"
-#include "bvh/build/builders.h"
+#include "bvh/builders/binned_subtree.h"
+#include "bvh/builders/builder_common.h"
+#include "bvh/builders/builders.h"
 #include "bvh/memory/huge_buffer.h"
 #include "bvh/split/scatter_refs.h"
 

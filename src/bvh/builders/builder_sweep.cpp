@@ -5,8 +5,8 @@
 #include <numeric>
 #include <utility>
 
-#include "bvh/build/builder_common.h"
-#include "bvh/build/builders.h"
+#include "bvh/builders/builder_common.h"
+#include "bvh/builders/builders.h"
 #include "bvh/split/sweep_split.h"
 
 namespace hprt {

@@ -22,9 +22,9 @@
 #include <memory>
 #include <vector>
 
-#include "bvh/build/builder_common.h"
-#include "bvh/build/builders.h"
-#include "bvh/build/parallel_parts.h"
+#include "bvh/builders/builder_common.h"
+#include "bvh/builders/builders.h"
+#include "bvh/builders/parallel_parts.h"
 #include "bvh/memory/huge_buffer.h"
 #include "bvh/split/sah.h"
 

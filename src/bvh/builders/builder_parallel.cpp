@@ -17,10 +17,10 @@
 #include <stdexcept>
 #include <utility>
 
-#include "bvh/build/binned_subtree.h"
-#include "bvh/build/builder_common.h"
-#include "bvh/build/builders.h"
-#include "bvh/build/parallel_parts.h"
+#include "bvh/builders/binned_subtree.h"
+#include "bvh/builders/builder_common.h"
+#include "bvh/builders/builders.h"
+#include "bvh/builders/parallel_parts.h"
 #include "bvh/memory/huge_buffer.h"
 #include "bvh/split/scatter_refs.h"
 

@@ -1,7 +1,7 @@
 // build_tree: picks the builder named by options.builder. All builders share
 // the canonical layout of build_tree.h; an input without valid primitives
 // gives a tree with no nodes, a single primitive a single leaf.
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 
 namespace hprt {
 

@@ -20,7 +20,7 @@
 #include <cstring>
 #include <vector>
 
-#include "bvh/build/builders.h"
+#include "bvh/builders/builders.h"
 #include "core/splitmix64.h"
 
 namespace hprt {

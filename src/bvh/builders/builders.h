@@ -2,7 +2,7 @@
 // each, all returning the same canonical BuildTree. `build_tree` dispatches on options.builder.
 #pragma once
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/input/build_options.h"
 #include "bvh/input/prim_info.h"
 #include "core/tree_stats.h"

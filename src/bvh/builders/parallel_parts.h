@@ -15,7 +15,7 @@
 #include <span>
 #include <vector>
 
-#include "bvh/build/build_tree.h"
+#include "bvh/builders/build_tree.h"
 #include "bvh/memory/huge_buffer.h"
 
 namespace hprt {
