@@ -22,6 +22,7 @@
 #include "bench/bench_timing.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "render/animation_loop.h"
 #include "render/progress.h"
 #include "render/whitted.h"
 
@@ -120,7 +121,6 @@ CaseResult run_config(const AnimCase& ac, const FrameConfig& fc, int threads, fl
     // Copies and unwelding may drop Embree's spare vertex; without it the
     // backend would copy the vertices every frame, which is not Embree's cost.
     for (TriangleMesh& m : scene.meshes) m.pad_for_embree();
-    animator.apply(0, scene);
     BackendOptions o;
     o.threads = threads;
     o.update = fc.update;
@@ -130,25 +130,29 @@ CaseResult run_config(const AnimCase& ac, const FrameConfig& fc, int threads, fl
     o.embree_robust = fc.robust;
     o.adaptive_factor = factor;
     std::unique_ptr<Intersector> isect = make_intersector(fc.backend, o);
-    res.build_ms = time_ms([&] { isect->build(scene); });
-    for (int f = 1; f <= ac.frames; ++f) {
-      deform.push_back(time_ms([&] { animator.apply(f, scene); }));
-      const double u = time_ms([&] { isect->update(scene); });
-      const BuildInfo info = isect->info();
-      res.rebuilds += info.rebuilt ? 1 : 0;
-      if (info.has_tree_stats) {
-        if (f == 1) res.sah_first = info.stats.sah_cost;
-        res.sah_last = info.stats.sah_cost;
+    // Frame 0 is built, not rendered or counted; frames 1 .. ac.frames are timed.
+    const auto render_one = [&](int, RenderStats& stats) {
+      return time_ms([&] { render_whitted(scene, scene.camera, *isect, &stats); });
+    };
+    const auto record = [&](const AnimationFrame& f) {
+      if (f.frame == 0) {
+        res.build_ms = f.update_ms;
+        return;
       }
-      RenderStats stats;
-      const double r = time_ms([&] { render_whitted(scene, scene.camera, *isect, &stats); });
-      update.push_back(u);
-      render.push_back(r);
-      frame.push_back(u + r);
-      rays += stats.rays();
-      render_total_ms += r;
+      deform.push_back(f.animate_ms);
+      res.rebuilds += f.info.rebuilt ? 1 : 0;
+      if (f.info.has_tree_stats) {
+        if (f.frame == 1) res.sah_first = f.info.stats.sah_cost;
+        res.sah_last = f.info.stats.sah_cost;
+      }
+      update.push_back(f.update_ms);
+      render.push_back(f.render_ms);
+      frame.push_back(f.update_ms + f.render_ms);
+      rays += f.stats.rays();
+      render_total_ms += f.render_ms;
       progress.advance();
-    }
+    };
+    run_animation(scene, animator, *isect, {0, ac.frames + 1, false}, render_one, record);
   });
   res.deform = summarize_ms(deform);
   res.update = summarize_ms(update);

@@ -3,8 +3,8 @@
 
 #include <filesystem>
 
-#include "core/mesh_generators.h"
 #include "io/scene_reader.h"
+#include "meshgen/mesh_generators.h"
 
 namespace hprt::bench {
 

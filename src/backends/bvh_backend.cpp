@@ -1,16 +1,11 @@
-// hprt's own BVH behind the Intersector interface: prim info -> build tree
-// (the builder named in the options, oneTBB inside the caller's task arena)
-// -> the traversal layout named in the options (binary, or wide 4/8 collapsed
-// from the same tree; node and triangle passes as two tasks)
-// and the tree statistics; batches of rays traced in parallel blocks with one
-// switch per batch into a fully inlined traversal.
-// update(): per BackendOptions::update, a full rebuild, a refit over the last
-// build's topology (bvh/refit/refit_bvh2.h), or adaptive (refit, then rebuild when the
-// refitted SAH cost exceeds adaptive_factor x the cost at the last rebuild).
+// hprt's own BVH behind the Intersector interface: glue between the scene,
+// the builders (bvh/builders), the traversal layout named in the options
+// (bvh/layout, made from the build tree with the triangle pass beside the
+// node pass), the batch entry points (bvh/traverse/trace_batch.h) and the
+// refits (bvh/refit). When update() refits and when it rebuilds is
+// update_policy.h's; what the tree was built over, mesh_record.h's.
 #include "backends/bvh_backend.h"
 
-#include <tbb/blocked_range.h>
-#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
@@ -20,95 +15,19 @@
 #include <string>
 #include <vector>
 
+#include "backends/mesh_record.h"
+#include "backends/update_policy.h"
 #include "bvh/builders/builders.h"
 #include "bvh/layout/flatten_bvh2.h"
 #include "bvh/layout/flatten_wide.h"
 #include "bvh/memory/huge_buffer.h"
 #include "bvh/refit/refit_bvh2.h"
 #include "bvh/refit/refit_wide.h"
-#include "bvh/traverse/traverse_bvh2.h"
-#include "bvh/traverse/traverse_packet.h"
-#include "bvh/traverse/traverse_wide.h"
-#include "core/ray_coherence.h"
+#include "bvh/traverse/trace_batch.h"
 #include "core/stopwatch.h"
 
 namespace hprt {
 namespace {
-
-constexpr size_t kGrain = 128;  // rays per parallel task
-
-template <typename Test, bool kAnyHit>
-bool trace_one(const Bvh2& bvh, const Ray& ray, Hit& hit) {
-  return traverse<Test, kAnyHit>(bvh, ray, hit);
-}
-template <typename Test, bool kAnyHit, int N>
-bool trace_one(const WideBvh<N>& bvh, const Ray& ray, Hit& hit) {
-  return traverse_wide<Test, kAnyHit>(bvh, ray, hit);
-}
-
-// Packets need AVX-512 (traverse_packet.h).
-#if defined(HPRT_HAS_PACKETS)
-constexpr bool kTracesPackets = true;
-#else
-constexpr bool kTracesPackets = false;
-#endif
-
-// How far apart a packet's origins may be: the embree backend's fraction of
-// the scene's extent, with the root box in place of the scene's.
-inline float packet_origin_tolerance(const AABB& root) {
-  return root.empty() ? 0.0f : kCoherentOriginFraction * max_component(root.diagonal());
-}
-inline float packet_origin_tolerance(const Bvh2& bvh) {
-  return bvh.empty() ? 0.0f : packet_origin_tolerance(AABB(bvh.nodes[0].min, bvh.nodes[0].max));
-}
-template <int N>
-float packet_origin_tolerance(const WideBvh<N>& bvh) {
-  if (!bvh.root.is_inner()) return 0.0f;
-  const WideNode<N>& root = bvh.nodes[bvh.root.index()];
-  AABB box;
-  for (int i = 0; i < N && !root.child[i].empty(); ++i) box.extend(root.box(i));
-  return packet_origin_tolerance(box);
-}
-
-// Rays go in fixed groups of kGroup (ray i in group i / kGroup, whatever the
-// thread count), as in the embree backend: with AVX-512 (any layout) a full
-// group of coherent rays (core/ray_coherence.h) is one packet, with the
-// answers its rays get one by one; anything else is traced ray by ray.
-// kAnyHit writes `occluded`, otherwise `hits`.
-template <typename Test, bool kAnyHit, typename Bvh>
-void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* occluded) {
-  constexpr size_t kGroup = 16;
-  const float tolerance = packet_origin_tolerance(bvh);
-  const size_t groups = (rays.size() + kGroup - 1) / kGroup;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, kGrain / kGroup),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t g = range.begin(); g != range.end(); ++g) {
-                        const size_t first = g * kGroup;
-                        const size_t count = std::min(kGroup, rays.size() - first);
-                        const Ray* r = rays.data() + first;
-                        if constexpr (kTracesPackets) {
-                          static_assert(kGroup == kPacketSize);
-                          if (count == kGroup && rays_coherent(r, kGroup, tolerance)) {
-                            // Only the array this query writes is offset (the other is null).
-                            if constexpr (kAnyHit)
-                              traverse_packet<Test, true>(bvh, r, nullptr, occluded + first);
-                            else
-                              traverse_packet<Test, false>(bvh, r, hits + first, nullptr);
-                            continue;
-                          }
-                        }
-                        for (size_t i = first; i < first + count; ++i) {
-                          Hit h;
-                          const bool found =
-                              ray_is_valid(rays[i]) && trace_one<Test, kAnyHit>(bvh, rays[i], h);
-                          if constexpr (kAnyHit)
-                            occluded[i] = found;
-                          else
-                            hits[i] = h;
-                        }
-                      }
-                    });
-}
 
 class BvhIntersector final : public Intersector {
   // Calls f with the layout in use (options_.layout); Self is const or not.
@@ -156,20 +75,18 @@ class BvhIntersector final : public Intersector {
   // update on, the backend keeps the freed build arrays for the next rebuild
   // (huge_buffer.h).
   void update(const Scene& scene) override {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     if (!retain_buffers_) retain_buffers_.emplace();
     bool rebuilt = true;
     double ms = 0.0;
-    if (options_.update == UpdateStrategy::kRebuild || !same_layout(scene) ||
-        invalid_became_valid(scene)) {
+    if (must_rebuild(options_.update, built_over_.fits(scene))) {
       ms = ms_since(start) + rebuild(scene, update_stats());
     } else {
       // Only the array this backend's triangle test reads is re-gathered.
       const RefitTriangles write = test_arrays();
       const RefitResult r =
           with_layout(*this, [&](auto& bvh) { return refit(bvh, scene, write, &refit_index_); });
-      if (!r.valid || (options_.update == UpdateStrategy::kAdaptive &&
-                       r.sah_cost > double(options_.adaptive_factor) * rebuild_sah_cost_)) {
+      if (rebuild_after_refit(options_, r.valid, r.sah_cost, rebuild_sah_cost_)) {
         ms = ms_since(start) + rebuild(scene, update_stats());
       } else {
         info_.stats.sah_cost = r.sah_cost;
@@ -185,10 +102,7 @@ class BvhIntersector final : public Intersector {
     if (hits.size() < rays.size())
       throw std::invalid_argument("intersect: fewer hit slots than rays");
     with_layout(*this, [&](const auto& bvh) {
-      if (options_.triangle_test == TriangleTestKind::kMoller)
-        trace_batch<MollerTest, false>(bvh, rays, hits.data(), nullptr);
-      else
-        trace_batch<WatertightTest, false>(bvh, rays, hits.data(), nullptr);
+      intersect_batch(bvh, options_.triangle_test, rays, hits.data());
     });
   }
 
@@ -196,10 +110,7 @@ class BvhIntersector final : public Intersector {
     if (result.size() < rays.size())
       throw std::invalid_argument("occluded: fewer result slots than rays");
     with_layout(*this, [&](const auto& bvh) {
-      if (options_.triangle_test == TriangleTestKind::kMoller)
-        trace_batch<MollerTest, true>(bvh, rays, nullptr, result.data());
-      else
-        trace_batch<WatertightTest, true>(bvh, rays, nullptr, result.data());
+      occluded_batch(bvh, options_.triangle_test, rays, result.data());
     });
   }
 
@@ -218,7 +129,7 @@ class BvhIntersector final : public Intersector {
   // Full build; returns its ms: prim info + build + flatten + what update()
   // needs later (layout record, refit index, the new tree's SAH cost).
   double rebuild(const Scene& scene, StatsPass stats_pass) {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     const PrimInfo prims = make_prim_info(scene);
     const BuildTree tree = build_tree(prims, options_.build);
     // The last build's triangle arrays (and refit index) are rewritten in
@@ -230,7 +141,7 @@ class BvhIntersector final : public Intersector {
     // new one is made, no layout is recorded: should making it throw, the
     // next update() finds the layout changed and rebuilds, instead of
     // refitting an empty tree.
-    layout_.clear();
+    built_over_.clear();
     bvh2_ = Bvh2{};
     bvh4_ = WideBvh<4>{};
     bvh8_ = WideBvh<8>{};
@@ -246,7 +157,7 @@ class BvhIntersector final : public Intersector {
         rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
         info_.memory_bytes = bvh.memory_bytes();
       });
-      record_layout(scene, prims);
+      built_over_.record(scene, prims);
     };
     TreeStats stats;
     double ms = 0.0;
@@ -292,48 +203,12 @@ class BvhIntersector final : public Intersector {
     return wide_sah_cost(bvh);
   }
 
-  // What the tree was built over: per mesh its vertex and triangle counts,
-  // and the triangles left out as invalid (usually none).
-  void record_layout(const Scene& scene, const PrimInfo& prims) {
-    layout_.resize(scene.meshes.size());
-    for (size_t g = 0; g < scene.meshes.size(); ++g)
-      layout_[g] = {scene.meshes[g].vertex_count(), scene.meshes[g].triangle_count()};
-    invalid_.clear();
-    if (prims.invalid == 0) return;
-    invalid_.reserve(prims.invalid);
-    for (size_t g = 0; g < scene.meshes.size(); ++g)
-      for (size_t i = 0; i < scene.meshes[g].triangle_count(); ++i)
-        if (!scene.meshes[g].triangle_valid(i))
-          invalid_.push_back({static_cast<uint32_t>(g), static_cast<uint32_t>(i)});
-  }
-
-  bool same_layout(const Scene& scene) const {
-    if (scene.meshes.size() != layout_.size()) return false;
-    for (size_t g = 0; g < layout_.size(); ++g)
-      if (layout_[g].vertices != scene.meshes[g].vertex_count() ||
-          layout_[g].triangles != scene.meshes[g].triangle_count())
-        return false;
-    return true;
-  }
-
-  bool invalid_became_valid(const Scene& scene) const {
-    for (const PrimRef& r : invalid_)
-      if (scene.meshes[r.geom_id].triangle_valid(r.prim_id)) return true;
-    return false;
-  }
-
-  struct MeshLayout {
-    size_t vertices = 0;
-    size_t triangles = 0;
-  };
-
   BackendOptions options_;
   Bvh2 bvh2_;
   WideBvh<4> bvh4_;
   WideBvh<8> bvh8_;
   BuildInfo info_;
-  std::vector<MeshLayout> layout_;                     // per mesh at the last rebuild
-  std::vector<PrimRef> invalid_;                       // triangles left out at the last rebuild
+  MeshRecord built_over_;                              // the meshes at the last rebuild
   RefitIndex refit_index_;                             // leaf-order vertex indices for refit()
   double rebuild_sah_cost_ = 0.0;                      // sah_cost right after the last rebuild
   std::optional<HugeBufferRetention> retain_buffers_;  // held once animated

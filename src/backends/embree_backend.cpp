@@ -71,7 +71,7 @@ class EmbreeIntersector final : public Intersector {
   ~EmbreeIntersector() override { release_scene(); }
 
   void build(const Scene& scene) override {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     build_scene(scene);
     info_.build_ms = ms_since(start);
     info_.rebuilt = true;
@@ -83,7 +83,7 @@ class EmbreeIntersector final : public Intersector {
   // recommit, which refits with quality "refit" and rebuilds otherwise. Any
   // other change (new arrays, new topology) is a full build.
   void update(const Scene& scene) override {
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     if (!same_layout(scene)) {
       build_scene(scene);
       info_.rebuilt = true;

@@ -52,8 +52,7 @@ int run(int argc, char** argv) {
     std::fprintf(stderr, "hprt: error: %s (see hprt --help)\n", e.what());
     return 2;
   } catch (const OptionError& e) {
-    std::fprintf(stderr, "hprt: error: %s: %s\n", option_flag(e.key()).c_str(),
-                 e.problem().c_str());
+    std::fprintf(stderr, "hprt: error: %s: %s\n", option_flag(e.key()).c_str(), e.problem());
     return 2;
   } catch (const InputError& e) {
     std::fprintf(stderr, "hprt: error: %s\n", e.what());

@@ -26,6 +26,7 @@
 #include "core/stopwatch.h"
 #include "io/image_io.h"
 #include "io/scene_reader.h"
+#include "render/animation_loop.h"
 #include "render/progress.h"
 #include "render/tile_scheduler.h"
 #include "render/whitted.h"
@@ -78,7 +79,7 @@ FrameReport render_frame(const Scene& scene, const Camera& camera, const Interse
     RenderOptions options;
     options.tile_size = kTileSize;
     options.progress = &progress;
-    const auto start = std::chrono::steady_clock::now();
+    const auto start = Clock::now();
     fb = render_whitted(scene, camera, backend, &report.stats, options);
     report.render_ms = ms_since(start);
   }
@@ -179,35 +180,31 @@ void run_frames(const RenderArgs& a) {
     const SceneAnimator animator(scene);
     const FrameRange range = parse_frame_range(a.frames, animator.frames());
     std::unique_ptr<Intersector> backend = make_intersector(options.backend, options);
-    for (int k = range.first; k < range.end; ++k) {
-      auto start = std::chrono::steady_clock::now();
-      animator.apply(k, scene);
-      const double animate_ms = ms_since(start);
-      if (k == range.first)
-        backend->build(scene);
-      else
-        backend->update(scene);
-      BuildInfo info = backend->info();
-      if (k == range.first) info.rebuilt = true;  // the first frame's build counts as its update
+    FrameReport frame;
+    const auto render_one = [&](int k, RenderStats& stats) {
+      frame = render_frame(scene, camera, *backend, format_frame_path(a.output, k));
+      stats = frame.stats;
+      return frame.render_ms;
+    };
+    const auto report = [&](const AnimationFrame& f) {
+      const BuildInfo& info = f.info;
       config = info.name;
-      const FrameReport frame =
-          render_frame(scene, camera, *backend, format_frame_path(a.output, k));
-      times.push_back({animate_ms, info.build_ms, frame.render_ms, info.rebuilt});
-      std::fprintf(stderr, "hprt render: frame %d: update %.2f ms (%s), render %.2f ms -> %s\n", k,
-                   info.build_ms, info.rebuilt ? "rebuilt" : "refit", frame.render_ms,
+      times.push_back({f.animate_ms, f.update_ms, f.render_ms, info.rebuilt});
+      std::fprintf(stderr, "hprt render: frame %d: update %.2f ms (%s), render %.2f ms -> %s\n",
+                   f.frame, f.update_ms, info.rebuilt ? "rebuilt" : "refit", f.render_ms,
                    frame.output.c_str());
       if (a.json) {
         nlohmann::json j;
-        j["frame"] = k;
+        j["frame"] = f.frame;
         j["strategy"] = strategy;
-        j["update_ms"] = info.build_ms;
+        j["update_ms"] = f.update_ms;
         j["sah_cost"] =
             info.has_tree_stats ? nlohmann::json(info.stats.sah_cost) : nlohmann::json();
         j["rebuilt"] = info.rebuilt;
-        j["render_ms"] = frame.render_ms;
+        j["render_ms"] = f.render_ms;
         j["mrays_per_s"] = mrays_per_s(frame);
         j["output"] = frame.output;
-        j["animate_ms"] = animate_ms;
+        j["animate_ms"] = f.animate_ms;
         j["rays"] = frame.stats.rays();
         j["backend"] = options.backend;
         j["config"] = info.name;
@@ -217,7 +214,8 @@ void run_frames(const RenderArgs& a) {
         j["threads"] = threads;
         std::cout << j.dump() << std::endl;
       }
-    }
+    };
+    run_animation(scene, animator, *backend, {range.first, range.end, true}, render_one, report);
   });
 
   std::vector<double> update, render;

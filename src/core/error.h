@@ -21,13 +21,13 @@ class InputError : public std::runtime_error {
 class OptionError : public InputError {
  public:
   OptionError(const std::string& key, const std::string& problem)
-      : InputError(key, problem), key_(key), problem_(problem) {}
+      : InputError(key, problem), key_(key) {}
   const std::string& key() const { return key_; }
-  const std::string& problem() const { return problem_; }
+  // what() without the leading "key: ".
+  const char* problem() const { return what() + key_.size() + 2; }
 
  private:
   std::string key_;
-  std::string problem_;
 };
 
 }  // namespace hprt

@@ -1,4 +1,4 @@
-// One entry point for every procedural mesh (core/mesh_generators.h), shared
+// One entry point for every procedural mesh (meshgen/mesh_generators.h), shared
 // by `hprt generate` and the scene reader's "generate" blocks; `subdivide`
 // loads its input with load_mesh, which is why this lives in io.
 #pragma once
@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "core/mesh_generators.h"
+#include "meshgen/mesh_generators.h"
 
 namespace hprt {
 

@@ -11,8 +11,8 @@
 
 #include "anim/deformers.h"
 #include "core/error.h"
-#include "core/mesh_generators.h"
 #include "core/parallel.h"
+#include "meshgen/mesh_generators.h"
 
 namespace hprt {
 namespace {

@@ -14,10 +14,10 @@
 #include "anim/frame_pattern.h"
 #include "anim/scene_animator.h"
 #include "core/error.h"
-#include "core/mesh_generators.h"
 #include "core/parallel.h"
 #include "io/ply_writer.h"
 #include "io/scene_reader.h"
+#include "meshgen/mesh_generators.h"
 #include "tests/support/cli_test_support.h"
 
 namespace fs = std::filesystem;

@@ -18,8 +18,8 @@
 #include "bvh/layout/flatten_wide.h"
 #include "bvh/refit/refit_bvh2.h"
 #include "bvh/refit/refit_wide.h"
-#include "core/mesh_generators.h"
 #include "core/parallel.h"
+#include "meshgen/mesh_generators.h"
 #include "tests/support/bvh_test_meshes.h"
 #include "tests/support/wide_bvh_checks.h"
 

@@ -1,6 +1,6 @@
 // Procedural meshes: count rules, determinism, closedness and orientation of
 // sphere/torus (and after subdivision), no degenerate or non-finite triangles.
-#include "core/mesh_generators.h"
+#include "meshgen/mesh_generators.h"
 
 #include <gtest/gtest.h>
 
@@ -49,7 +49,7 @@ double signed_volume(const TriangleMesh& m) {
   return v;
 }
 
-constexpr size_t kGeneratorBlockForTest = 16384;  // kGeneratorBlock in core/generate_random.h
+constexpr size_t kGeneratorBlockForTest = 16384;  // kGeneratorBlock in meshgen/generate_random.h
 
 bool same_mesh(const TriangleMesh& a, const TriangleMesh& b) {
   return a.positions == b.positions && a.triangles == b.triangles;

@@ -11,8 +11,8 @@
 
 #include "core/camera.h"
 #include "core/error.h"
-#include "core/mesh_generators.h"
 #include "io/ply_writer.h"
+#include "meshgen/mesh_generators.h"
 
 namespace fs = std::filesystem;
 using namespace hprt;

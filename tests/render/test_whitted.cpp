@@ -9,9 +9,9 @@
 #include <optional>
 
 #include "backends/intersector.h"
-#include "core/mesh_generators.h"
 #include "core/parallel.h"
 #include "io/image_io.h"
+#include "meshgen/mesh_generators.h"
 #include "render/shading.h"
 #include "render/whitted.h"
 #include "validators/image_diff.h"

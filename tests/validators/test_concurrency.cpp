@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "backends/intersector.h"
-#include "core/mesh_generators.h"
 #include "core/parallel.h"
 #include "io/scene_reader.h"
+#include "meshgen/mesh_generators.h"
 #include "validators/ray_sets.h"
 
 namespace hprt {

@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "backends/intersector.h"
-#include "core/mesh_generators.h"
 #include "core/parallel.h"
+#include "meshgen/mesh_generators.h"
 #include "validators/ray_diff.h"
 #include "validators/ray_sets.h"
 

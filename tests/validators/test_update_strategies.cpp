@@ -12,9 +12,9 @@
 
 #include "anim/scene_animator.h"
 #include "backends/intersector.h"
-#include "core/mesh_generators.h"
 #include "core/parallel.h"
 #include "io/scene_reader.h"
+#include "meshgen/mesh_generators.h"
 #include "validators/ray_diff.h"
 #include "validators/ray_sets.h"
 

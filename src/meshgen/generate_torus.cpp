@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/mesh_generators.h"
+#include "meshgen/mesh_generators.h"
 
 namespace hprt {
 

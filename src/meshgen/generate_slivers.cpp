@@ -5,8 +5,8 @@
 
 #include <algorithm>
 
-#include "core/generate_random.h"
-#include "core/mesh_generators.h"
+#include "meshgen/generate_random.h"
+#include "meshgen/mesh_generators.h"
 
 namespace hprt {
 

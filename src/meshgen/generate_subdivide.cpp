@@ -8,7 +8,7 @@
 #include <vector>
 
 #include "core/error.h"
-#include "core/mesh_generators.h"
+#include "meshgen/mesh_generators.h"
 
 namespace hprt {
 namespace {

@@ -10,7 +10,7 @@
 #include <utility>
 #include <vector>
 
-#include "core/mesh_generators.h"
+#include "meshgen/mesh_generators.h"
 
 namespace hprt {
 namespace {

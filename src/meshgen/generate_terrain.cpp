@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/mesh_generators.h"
+#include "meshgen/mesh_generators.h"
 #include "core/splitmix64.h"
 
 namespace hprt {

@@ -1,0 +1,37 @@
+// A batch of rays through one layout of the bvh: the entry points the bvh
+// backend calls once per batch. Rays go in fixed groups of 16 (ray i in
+// group i / 16, whatever the thread count), the groups in parallel
+// (oneTBB, in the caller's task arena). With AVX-512 a full group of
+// coherent rays (core/ray_coherence.h) is one packet, answered bit for bit as
+// its rays one by one; anything else is traced ray by ray. Invalid rays miss.
+// One translation unit per layout instantiates them (trace_batch_bvh*.cpp),
+// as Embree compiles one per width.
+#pragma once
+
+#include <cstdint>
+#include <span>
+
+#include "bvh/input/build_options.h"
+#include "bvh/layout/bvh2.h"
+#include "bvh/layout/wide_bvh.h"
+#include "core/hit.h"
+#include "core/ray.h"
+
+namespace hprt {
+
+// Closest hits: hits[i] for rays[i] (hits has at least rays.size() slots).
+void intersect_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays, Hit* hits);
+void intersect_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                     Hit* hits);
+void intersect_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                     Hit* hits);
+
+// Any hit: occluded[i] = 1 when rays[i] hits something in its interval, else 0.
+void occluded_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                    uint8_t* occluded);
+void occluded_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                    uint8_t* occluded);
+void occluded_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                    uint8_t* occluded);
+
+}  // namespace hprt

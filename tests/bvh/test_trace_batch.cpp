@@ -1,0 +1,96 @@
+// The batch entry points (bvh/traverse/trace_batch.h) of every layout and
+// triangle test answer each ray exactly as the single-ray traversal does,
+// packets included (coherent grids make full coherent groups), and write
+// nothing past the batch; invalid rays miss.
+#include <gtest/gtest.h>
+
+#include <cstring>
+#include <limits>
+#include <vector>
+
+#include "bvh/intersect/ray_triangle.h"
+#include "bvh/layout/flatten_wide.h"
+#include "bvh/traverse/trace_batch.h"
+#include "bvh/traverse/traverse_bvh2.h"
+#include "bvh/traverse/traverse_wide.h"
+#include "meshgen/mesh_generators.h"
+#include "tests/support/bvh_trace_helpers.h"
+
+namespace hprt {
+namespace {
+
+bool same_hit(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
+
+template <typename Test>
+Hit one_ray(const Bvh2& bvh, const Ray& r) {
+  Hit h;
+  if (ray_is_valid(r)) traverse<Test, false>(bvh, r, h);
+  return h;
+}
+template <typename Test, int N>
+Hit one_ray(const WideBvh<N>& bvh, const Ray& r) {
+  Hit h;
+  if (ray_is_valid(r)) traverse_wide<Test, false>(bvh, r, h);
+  return h;
+}
+
+template <typename Test, typename Bvh>
+void expect_batch_equals_single_rays(const Bvh& bvh, TriangleTestKind kind,
+                                     const std::vector<Ray>& rays) {
+  // One slot more than the batch, to catch a write past its end.
+  std::vector<Hit> hits(rays.size() + 1);
+  Hit sentinel;
+  sentinel.t = 42.0f;
+  hits.back() = sentinel;
+  intersect_batch(bvh, kind, rays, hits.data());
+  std::vector<uint8_t> occ(rays.size() + 1, 7);
+  occluded_batch(bvh, kind, rays, occ.data());
+  size_t hit_count = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Hit want = one_ray<Test>(bvh, rays[i]);
+    ASSERT_TRUE(same_hit(hits[i], want)) << "ray " << i;
+    EXPECT_EQ(occ[i], want.hit() ? 1 : 0) << "ray " << i;
+    hit_count += want.hit();
+  }
+  EXPECT_TRUE(same_hit(hits.back(), sentinel));
+  EXPECT_EQ(occ.back(), 7);
+  EXPECT_GT(hit_count, rays.size() / 10);  // the rays do meet the mesh
+}
+
+template <typename Test>
+void check_every_layout(TriangleTestKind kind) {
+  test::BuiltBvh b = test::build_flat({generate_sphere(5000), test::random_soup(3000, 5)}, {});
+  const AABB box = b.scene.bounds();
+  std::vector<Ray> rays = test::coherent_rays(box, 64, 48);  // full coherent groups
+  const std::vector<Ray> random = test::random_rays(box, 3001, 9);
+  rays.insert(rays.end(), random.begin(), random.end());
+  rays[5].dir = Vec3f(0.0f);                                   // invalid in a packet group
+  rays[4000].org.x = std::numeric_limits<float>::quiet_NaN();  // invalid on its own
+  expect_batch_equals_single_rays<Test>(b.bvh, kind, rays);
+  expect_batch_equals_single_rays<Test>(flatten_wide<4>(b.tree, b.prims, b.scene), kind, rays);
+  expect_batch_equals_single_rays<Test>(flatten_wide<8>(b.tree, b.prims, b.scene), kind, rays);
+}
+
+TEST(TraceBatch, WatertightEqualsSingleRaysInEveryLayout) {
+  check_every_layout<WatertightTest>(TriangleTestKind::kWatertight);
+}
+
+TEST(TraceBatch, MollerEqualsSingleRaysInEveryLayout) {
+  check_every_layout<MollerTest>(TriangleTestKind::kMoller);
+}
+
+TEST(TraceBatch, EmptyBatchAndEmptyTree) {
+  test::BuiltBvh none = test::build_flat({}, {});
+  std::vector<Ray> rays = test::random_rays(AABB(Vec3f(0.0f), Vec3f(1.0f)), 40, 1);
+  std::vector<Hit> hits(rays.size());
+  intersect_batch(none.bvh, TriangleTestKind::kWatertight, rays, hits.data());
+  for (const Hit& h : hits) EXPECT_FALSE(h.hit());
+  intersect_batch(none.bvh, TriangleTestKind::kWatertight, std::span<const Ray>(), nullptr);
+  std::vector<uint8_t> occ(rays.size(), 1);
+  occluded_batch(flatten_wide<8>(none.tree, none.prims, none.scene), TriangleTestKind::kWatertight,
+                 rays, occ.data());
+  for (uint8_t o : occ) EXPECT_EQ(o, 0);
+}
+
+}  // namespace
+}  // namespace hprt
