@@ -7,10 +7,14 @@
 #include "bench/bench_build.h"
 
 #include <algorithm>
+#include <cstdio>
 #include <functional>
+#include <iterator>
 #include <memory>
 #include <optional>
 #include <stdexcept>
+#include <string>
+#include <string_view>
 
 #include "backends/intersector.h"
 #include "bench/bench_embree_bvh.h"
@@ -80,15 +84,17 @@ void add_row(Table& table, const BenchInput& in, size_t tris, const std::string&
   if (r.depth >= 0) row.set("depth", r.depth);
 }
 
-}  // namespace
+// Every builder row of a mesh, in row order: ours, then Embree's commits
+// (one per quality), then rtcBuildBVH.
+constexpr BuilderKind kBuilders[] = {BuilderKind::kSweep, BuilderKind::kPresorted,
+                                     BuilderKind::kBinned, BuilderKind::kParallel,
+                                     BuilderKind::kMorton};
+constexpr const char* kQualities[] = {"low", "medium", "high"};
+constexpr std::string_view kCommitPrefix = "embree-commit-";
 
-BenchReport run_build_bench(const BuildBenchConfig& config) {
+// Inputs first, so a missing file fails before any timing.
+std::vector<BenchInput> load_inputs(const BuildBenchConfig& config) {
   const BenchOptions& o = config.common;
-  check_bench_options(o);
-  const int reps = repetitions(o, 5, 1);
-  const std::vector<int> threads = thread_counts(o);
-
-  // Inputs first, so a missing file fails before any timing.
   std::vector<BenchInput> inputs;
   for (const auto& path : config.meshes) inputs.push_back(file_input(path));
   if (config.meshes.empty() || config.with_generated) {
@@ -101,179 +107,189 @@ BenchReport run_build_bench(const BuildBenchConfig& config) {
   if (config.with_10m) inputs.push_back(generated_input(10'000'000));
   for (const auto& in : inputs)
     if (in.scene.triangle_count() == 0) throw InputError(in.source, "mesh has no triangles");
+  return inputs;
+}
 
-  BenchReport report("build", "BVH build time (report Table 1, Embree beside)", o);
-  report.set_param("threads", threads);
-  report.set_param("repetitions", reps);
-  report.set_param("timed_call",
-                   "ours: make_prim_info + build_tree; embree-commit: backend build() "
-                   "(geometry + rtcCommitScene); embree-buildbvh: rtcBuildBVH");
-  Table& table =
-      report.add_table("table", "Build time per builder and thread count", make_build_table());
-
-  const std::vector<BuilderKind> builders = {BuilderKind::kSweep, BuilderKind::kPresorted,
-                                             BuilderKind::kBinned, BuilderKind::kParallel,
-                                             BuilderKind::kMorton};
-  const char* qualities[] = {"low", "medium", "high"};
-  size_t steps = 0;  // timed calls
+// Timed calls over all meshes, for the progress bar.
+size_t count_steps(const std::vector<BenchInput>& inputs, size_t thread_count, int reps,
+                   bool repeat_given) {
+  size_t steps = 0;
   for (const auto& in : inputs) {
-    const bool sweep_one = in.scene.triangle_count() > kSweepFewerRepsAbove && !o.repeat;
-    steps += threads.size() * size_t(reps) * (builders.size() + 4 - (sweep_one ? 1 : 0)) +
-             (sweep_one ? threads.size() : 0);
+    const bool sweep_one = in.scene.triangle_count() > kSweepFewerRepsAbove && !repeat_given;
+    steps += thread_count * size_t(reps) * (std::size(kBuilders) + 4 - (sweep_one ? 1 : 0)) +
+             (sweep_one ? thread_count : 0);
   }
-  Progress progress("bench build", steps, o.progress);
-  bool sweep_fewer = false;
+  return steps;
+}
 
-  for (const auto& in : inputs) {
-    const Scene& scene = in.scene;
-    const size_t tris = scene.triangle_count();
-    const PrimInfo prims_all = make_prim_info(scene);
-    const size_t valid = prims_all.size();
+// One (builder, thread count) of a mesh.
+struct BuildJob {
+  std::string builder;
+  size_t thread_index = 0;
+  int reps = 0;
+  Timed result;  // t from the run; the rest from the first repetition
+};
 
-    // Every (builder, thread count) of this mesh is a job; repetitions run
-    // round-robin over the jobs (repetition r of each before r+1 of any), so
-    // a change in the load of a shared machine spreads over all rows.
-    struct Job {
-      std::string builder;
-      size_t thread_index = 0;
-      int reps = 0;
-      std::function<double(bool first)> once;  // one timed call, ms
-      std::vector<double> samples;
-      Timed result;
-    };
-    std::vector<Job> jobs;
-    std::vector<std::unique_ptr<EmbreeBvhBuilder>> embree_bvh(threads.size());
-    for (size_t ti = 0; ti < threads.size(); ++ti) {
-      embree_bvh[ti] = std::make_unique<EmbreeBvhBuilder>(prims_all, threads[ti]);
-      Job j{"embree-buildbvh", ti, reps, nullptr, {}, {}};
-      jobs.push_back(std::move(j));
+// The jobs of a mesh in the order they are timed: rtcBuildBVH, ours, commits.
+std::vector<BuildJob> list_jobs(size_t valid, size_t thread_count, int reps, bool repeat_given) {
+  std::vector<BuildJob> jobs;
+  for (size_t ti = 0; ti < thread_count; ++ti) jobs.push_back({"embree-buildbvh", ti, reps, {}});
+  for (BuilderKind b : kBuilders) {
+    const int b_reps =
+        (b == BuilderKind::kSweep && valid > kSweepFewerRepsAbove && !repeat_given) ? 1 : reps;
+    for (size_t ti = 0; ti < thread_count; ++ti)
+      jobs.push_back({std::string(to_string(b)), ti, b_reps, {}});
+  }
+  for (const char* q : kQualities)
+    for (size_t ti = 0; ti < thread_count; ++ti)
+      jobs.push_back({std::string(kCommitPrefix) + q, ti, reps, {}});
+  return jobs;
+}
+
+// rtcBuildBVH alone, as Embree's builder measures it; tree statistics once.
+std::function<double(int)> embree_bvh_sample(EmbreeBvhBuilder* eb, int t, Timed* res) {
+  return [eb, t, res](int rep) {
+    const EmbreeBvhResult r = run_with_threads(t, [&] { return eb->build(BuildOptions{}); });
+    if (rep == 0) {
+      res->sah = r.sah_cost;
+      res->nodes = r.nodes;
+      res->depth = r.depth;
     }
-    for (BuilderKind b : builders) {
-      const int b_reps =
-          (b == BuilderKind::kSweep && valid > kSweepFewerRepsAbove && !o.repeat) ? 1 : reps;
-      if (b_reps != reps) sweep_fewer = true;
-      for (size_t ti = 0; ti < threads.size(); ++ti)
-        jobs.push_back(Job{std::string(to_string(b)), ti, b_reps, nullptr, {}, {}});
-    }
-    for (const char* q : qualities)
-      for (size_t ti = 0; ti < threads.size(); ++ti)
-        jobs.push_back(Job{std::string("embree-commit-") + q, ti, reps, nullptr, {}, {}});
+    return r.build_ms;
+  };
+}
 
-    for (Job& job : jobs) {
-      const int t = threads[job.thread_index];
-      Timed* res = &job.result;
-      if (job.builder == "embree-buildbvh") {
-        EmbreeBvhBuilder* eb = embree_bvh[job.thread_index].get();
-        job.once = [eb, t, res](bool first) {
-          const EmbreeBvhResult r = run_with_threads(t, [&] { return eb->build(BuildOptions{}); });
-          if (first) {
-            res->sah = r.sah_cost;
-            res->nodes = r.nodes;
-            res->depth = r.depth;
-          }
-          return r.build_ms;
-        };
-      } else if (job.builder.rfind("embree-commit-", 0) == 0) {
-        BackendOptions bo;
-        bo.backend = "embree";
-        bo.threads = t;
-        bo.embree_quality = job.builder.substr(std::string("embree-commit-").size());
-        job.once = [bo, t, res, &scene, valid](bool first) {
-          return run_with_threads(t, [&] {
-            std::unique_ptr<Intersector> embree = make_intersector("embree", bo);
-            const double ms = time_ms([&] { embree->build(scene); });
-            if (first)
-              res->bytes_per_tri =
-                  valid ? double(embree->info().memory_bytes) / double(valid) : 0.0;
-            return ms;
-          });
-        };
-      } else {
-        BuildOptions opts;
-        opts.builder = *parse_builder(job.builder);
-        job.once = [opts, t, res, &scene, valid](bool first) {
-          return run_with_threads(t, [&] {
-            std::optional<PrimInfo> prims;
-            std::optional<BuildTree> tree;
-            const double ms = time_ms([&] {
-              prims.emplace(make_prim_info(scene));
-              tree.emplace(build_tree(*prims, opts));
-            });
-            if (first) {  // tree quality and memory, outside the timed call
-              const TreeStats stats = compute_tree_stats(*tree, *prims);
-              res->sah = stats.sah_cost;
-              res->nodes = stats.nodes;
-              res->depth = stats.depth;
-              const Bvh2 flat = flatten(*tree, *prims, scene, kBackendArrays);
-              res->bytes_per_tri = valid ? double(flat.memory_bytes()) / double(valid) : 0.0;
-            }
-            return ms;
-          });
-        };
-      }
-    }
-    int max_reps = 0;
-    for (const Job& j : jobs) max_reps = std::max(max_reps, j.reps);
-    for (int r = 0; r < max_reps; ++r)
-      for (Job& j : jobs)
-        if (r < j.reps) {
-          j.samples.push_back(j.once(r == 0));
-          progress.advance();
-        }
-    for (Job& j : jobs) j.result.t = summarize_ms(j.samples);
+// The embree backend's build() (geometry + rtcCommitScene); its memory once.
+std::function<double(int)> embree_commit_sample(const std::string& quality, int t, Timed* res,
+                                                const Scene& scene, size_t valid) {
+  BackendOptions bo;
+  bo.backend = "embree";
+  bo.threads = t;
+  bo.embree_quality = quality;
+  return [bo, t, res, &scene, valid](int rep) {
+    return run_with_threads(t, [&] {
+      std::unique_ptr<Intersector> embree = make_intersector("embree", bo);
+      const double ms = time_ms([&] { embree->build(scene); });
+      if (rep == 0)
+        res->bytes_per_tri = valid ? double(embree->info().memory_bytes) / double(valid) : 0.0;
+      return ms;
+    });
+  };
+}
 
-    // Rows: our builders, then Embree's commits, then rtcBuildBVH.
-    auto find = [&](const std::string& name, size_t ti) -> const Timed& {
-      for (const Job& j : jobs)
-        if (j.builder == name && j.thread_index == ti) return j.result;
-      throw std::logic_error("no job " + name);
-    };
-    const double embree_bvh_sah = find("embree-buildbvh", 0).sah;
-    std::vector<std::string> order;
-    for (BuilderKind b : builders) order.emplace_back(to_string(b));
-    for (const char* q : qualities) order.push_back(std::string("embree-commit-") + q);
-    order.emplace_back("embree-buildbvh");
-    for (const auto& name : order) {
-      const bool embree_commit = name.rfind("embree-commit-", 0) == 0;
-      for (size_t ti = 0; ti < threads.size(); ++ti) {
-        const Timed& r = find(name, ti);
-        add_row(table, in, tris, name, threads[ti], r,
-                ti == 0 ? std::nullopt : std::optional<double>(find(name, 0).t.median_ms),
-                embree_commit ? std::nullopt : std::optional<double>(embree_bvh_sah));
-      }
-    }
-    embree_bvh.clear();
-
-    // Flatten cost of the default tree into each traversal layout (not in
-    // build_ms above): median of `reps`, alternating the layouts.
-    {
-      const BuildTree tree =
-          run_with_threads(threads.back(), [&] { return build_tree(prims_all, BuildOptions{}); });
-      std::vector<double> flat_ms[2];
-      size_t wide_bytes = 0;
-      run_with_threads(threads.back(), [&] {
-        for (int r = 0; r < reps; ++r) {
-          flat_ms[0].push_back(
-              time_ms([&] { (void)flatten(tree, prims_all, scene, kBackendArrays); }));
-          flat_ms[1].push_back(time_ms([&] {
-            wide_bytes = flatten_wide<8>(tree, prims_all, scene, kBackendArrays).memory_bytes();
-          }));
-        }
+// make_prim_info + build_tree; tree quality and memory once, outside the
+// timed call.
+std::function<double(int)> our_build_sample(BuilderKind builder, int t, Timed* res,
+                                            const Scene& scene, size_t valid) {
+  BuildOptions opts;
+  opts.builder = builder;
+  return [opts, t, res, &scene, valid](int rep) {
+    return run_with_threads(t, [&] {
+      std::optional<PrimInfo> prims;
+      std::optional<BuildTree> tree;
+      const double ms = time_ms([&] {
+        prims.emplace(make_prim_info(scene));
+        tree.emplace(build_tree(*prims, opts));
       });
-      char buf[320];
-      std::snprintf(buf, sizeof buf,
-                    "%s: flattening the parallel tree takes %.1f ms more into the bvh2 layout "
-                    "and %.1f ms into bvh8 (the default; %.1f bytes/triangle) at %d threads "
-                    "(median of %d, not in build_ms).",
-                    in.label.c_str(), summarize_ms(flat_ms[0]).median_ms,
-                    summarize_ms(flat_ms[1]).median_ms,
-                    valid ? double(wide_bytes) / double(valid) : 0.0, threads.back(), reps);
-      report.add_note(buf);
+      if (rep == 0) {
+        const TreeStats stats = compute_tree_stats(*tree, *prims);
+        res->sah = stats.sah_cost;
+        res->nodes = stats.nodes;
+        res->depth = stats.depth;
+        const Bvh2 flat = flatten(*tree, *prims, scene, kBackendArrays);
+        res->bytes_per_tri = valid ? double(flat.memory_bytes()) / double(valid) : 0.0;
+      }
+      return ms;
+    });
+  };
+}
+
+// Times every job of a mesh, repetitions round-robin over them.
+void time_jobs(std::vector<BuildJob>& jobs, const std::vector<int>& threads,
+               const PrimInfo& prims_all, const Scene& scene, Progress& progress) {
+  const size_t valid = prims_all.size();
+  std::vector<std::unique_ptr<EmbreeBvhBuilder>> embree_bvh;
+  for (int t : threads) embree_bvh.push_back(std::make_unique<EmbreeBvhBuilder>(prims_all, t));
+  std::vector<RoundRobinJob> timed;
+  for (BuildJob& job : jobs) {
+    const int t = threads[job.thread_index];
+    Timed* res = &job.result;
+    if (job.builder == "embree-buildbvh")
+      timed.push_back({job.reps, embree_bvh_sample(embree_bvh[job.thread_index].get(), t, res)});
+    else if (job.builder.rfind(kCommitPrefix, 0) == 0)
+      timed.push_back({job.reps, embree_commit_sample(job.builder.substr(kCommitPrefix.size()), t,
+                                                      res, scene, valid)});
+    else
+      timed.push_back(
+          {job.reps, our_build_sample(*parse_builder(job.builder), t, res, scene, valid)});
+  }
+  const std::vector<TimingStats> stats = run_round_robin(timed, [&] { progress.advance(); });
+  for (size_t i = 0; i < jobs.size(); ++i) jobs[i].result.t = stats[i];
+}
+
+// Rows of a mesh: our builders, then Embree's commits, then rtcBuildBVH.
+void add_rows(Table& table, const BenchInput& in, const std::vector<BuildJob>& jobs,
+              const std::vector<int>& threads) {
+  auto find = [&](const std::string& name, size_t ti) -> const Timed& {
+    for (const BuildJob& j : jobs)
+      if (j.builder == name && j.thread_index == ti) return j.result;
+    throw std::logic_error("no job " + name);
+  };
+  const double embree_bvh_sah = find("embree-buildbvh", 0).sah;
+  std::vector<std::string> order;
+  for (BuilderKind b : kBuilders) order.emplace_back(to_string(b));
+  for (const char* q : kQualities) order.push_back(std::string(kCommitPrefix) + q);
+  order.emplace_back("embree-buildbvh");
+  for (const auto& name : order) {
+    const bool embree_commit = name.rfind(kCommitPrefix, 0) == 0;
+    for (size_t ti = 0; ti < threads.size(); ++ti) {
+      const Timed& r = find(name, ti);
+      add_row(table, in, in.scene.triangle_count(), name, threads[ti], r,
+              ti == 0 ? std::nullopt : std::optional<double>(find(name, 0).t.median_ms),
+              embree_commit ? std::nullopt : std::optional<double>(embree_bvh_sah));
     }
   }
-  progress.finish();
+}
 
-  for (const auto& in : inputs) report.add_note(in.label + ": " + in.source);
+// Flatten cost of the default tree into each traversal layout (not in
+// build_ms): median of `reps`, alternating the layouts.
+std::string flatten_note(const BenchInput& in, const PrimInfo& prims_all, int threads, int reps) {
+  const Scene& scene = in.scene;
+  const size_t valid = prims_all.size();
+  const BuildTree tree =
+      run_with_threads(threads, [&] { return build_tree(prims_all, BuildOptions{}); });
+  size_t wide_bytes = 0;
+  std::vector<TimingStats> flat;
+  run_with_threads(threads, [&] {
+    flat = run_round_robin(
+        {{reps, timed_sample([&] { (void)flatten(tree, prims_all, scene, kBackendArrays); })},
+         {reps, timed_sample([&] {
+            wide_bytes = flatten_wide<8>(tree, prims_all, scene, kBackendArrays).memory_bytes();
+          })}});
+  });
+  char buf[320];
+  std::snprintf(buf, sizeof buf,
+                "%s: flattening the parallel tree takes %.1f ms more into the bvh2 layout "
+                "and %.1f ms into bvh8 (the default; %.1f bytes/triangle) at %d threads "
+                "(median of %d, not in build_ms).",
+                in.label.c_str(), flat[0].median_ms, flat[1].median_ms,
+                valid ? double(wide_bytes) / double(valid) : 0.0, threads, reps);
+  return buf;
+}
+
+// Times one mesh into `table` and its flatten note into `report`; true when
+// sweep ran fewer repetitions than the others.
+bool bench_mesh(BenchReport& report, Table& table, const BenchInput& in,
+                const std::vector<int>& threads, int reps, bool repeat_given, Progress& progress) {
+  const PrimInfo prims_all = make_prim_info(in.scene);
+  std::vector<BuildJob> jobs = list_jobs(prims_all.size(), threads.size(), reps, repeat_given);
+  time_jobs(jobs, threads, prims_all, in.scene, progress);
+  add_rows(table, in, jobs, threads);
+  report.add_note(flatten_note(in, prims_all, threads.back(), reps));
+  return std::any_of(jobs.begin(), jobs.end(), [&](const BuildJob& j) { return j.reps != reps; });
+}
+
+void add_table_notes(Table& table, bool sweep_fewer) {
   table.add_note(
       "build_ms: median of reps (run round-robin over the rows of a mesh); min_ms/max_ms: range. "
       "mtris_per_s = triangles / "
@@ -303,6 +319,36 @@ BenchReport run_build_bench(const BuildBenchConfig& config) {
       "32-core machine, seconds): Crytek Sponza 132,267 triangles 1.575 sequential, 0.355 "
       "parallel (4.43x); Chinese Dragon 871,306: 11.753, 2.399 (4.90x); Happy Buddha "
       "1,087,474: 15.116, 3.480 (4.34x).");
+}
+
+}  // namespace
+
+BenchReport run_build_bench(const BuildBenchConfig& config) {
+  const BenchOptions& o = config.common;
+  check_bench_options(o);
+  const int reps = repetitions(o, 5, 1);
+  const std::vector<int> threads = thread_counts(o);
+  const std::vector<BenchInput> inputs = load_inputs(config);
+
+  BenchReport report("build", "BVH build time (report Table 1, Embree beside)", o);
+  report.set_param("threads", threads);
+  report.set_param("repetitions", reps);
+  report.set_param("timed_call",
+                   "ours: make_prim_info + build_tree; embree-commit: backend build() "
+                   "(geometry + rtcCommitScene); embree-buildbvh: rtcBuildBVH");
+  Table& table =
+      report.add_table("table", "Build time per builder and thread count", make_build_table());
+
+  Progress progress("bench build", count_steps(inputs, threads.size(), reps, o.repeat.has_value()),
+                    o.progress);
+  bool sweep_fewer = false;
+  for (const auto& in : inputs)
+    if (bench_mesh(report, table, in, threads, reps, o.repeat.has_value(), progress))
+      sweep_fewer = true;
+  progress.finish();
+
+  for (const auto& in : inputs) report.add_note(in.label + ": " + in.source);
+  add_table_notes(table, sweep_fewer);
   return report;
 }
 

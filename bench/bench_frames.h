@@ -8,7 +8,7 @@
 #include <string>
 
 #include "bench/bench_options.h"
-#include "bench/report_bench.h"
+#include "bench/report/report_bench.h"
 
 namespace hprt::bench {
 

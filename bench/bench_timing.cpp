@@ -1,4 +1,4 @@
-// Summary statistics of repeated timings.
+// Summary statistics of repeated timings and the round-robin harness.
 #include "bench/bench_timing.h"
 
 #include <algorithm>
@@ -20,6 +20,23 @@ TimingStats summarize_ms(std::vector<double> samples_ms) {
   for (double s : samples_ms) sum += s;
   t.mean_ms = sum / double(n);
   return t;
+}
+
+std::vector<TimingStats> run_round_robin(const std::vector<RoundRobinJob>& jobs,
+                                         const std::function<void()>& after_sample) {
+  int max_reps = 0;
+  for (const RoundRobinJob& j : jobs) max_reps = std::max(max_reps, j.repetitions);
+  std::vector<std::vector<double>> samples(jobs.size());
+  for (int r = 0; r < max_reps; ++r)
+    for (size_t i = 0; i < jobs.size(); ++i)
+      if (r < jobs[i].repetitions) {
+        samples[i].push_back(jobs[i].sample(r));
+        if (after_sample) after_sample();
+      }
+  std::vector<TimingStats> stats;
+  stats.reserve(jobs.size());
+  for (std::vector<double>& s : samples) stats.push_back(summarize_ms(std::move(s)));
+  return stats;
 }
 
 std::string format_median_range(const TimingStats& t, int decimals) {

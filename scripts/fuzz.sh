@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Builds the libFuzzer targets (tests/fuzz, clang, ASan+UBSan) in build-fuzz and
-# runs each for FUZZ_SECONDS (default 15) on a temp copy of its seed corpus.
+# runs each for FUZZ_SECONDS (default 15) on a temp copy of its seed corpus,
+# as many at once as there are cores.
 # Exits non-zero on any crash, sanitizer report, leak, timeout or OOM; skips
 # (exit 0, with a message) when clang or libFuzzer (libclang-rt-14-dev) is missing.
 set -euo pipefail
@@ -26,21 +27,35 @@ CC=clang CXX=clang++ cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=RelWithDebI
 cmake --build "$build" -j "$(nproc)" --target fuzz_ply fuzz_obj fuzz_scene fuzz_rays
 
 work="$probe/run"
-status=0
-for name in ply obj scene rays; do
+# One fuzzer per core at a time (each is one single-threaded process).
+fuzz_one() {  # name: runs it, keeps its log; status in $work/$name.status
+  local name="$1" rc=0
   mkdir -p "$work/$name" "$work/artifacts-$name"
   cp "$root/tests/fuzz/corpus/$name/"* "$work/$name/"
+  (cd "$work" && "$build/tests/fuzz/fuzz_$name" "$work/$name" \
+     -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 \
+     -artifact_prefix="$work/artifacts-$name/" >"$work/$name.log" 2>&1) || rc=$?
+  echo "$rc" >"$work/$name.status"
+}
+names=(ply obj scene rays)
+running=0
+for name in "${names[@]}"; do
   echo "== fuzz_$name (${seconds}s)"
-  if ! (cd "$work" && "$build/tests/fuzz/fuzz_$name" "$work/$name" \
-        -max_total_time="$seconds" -rss_limit_mb=2048 -timeout=10 -print_final_stats=1 \
-        -artifact_prefix="$work/artifacts-$name/" >"$work/$name.log" 2>&1); then
+  fuzz_one "$name" &
+  running=$((running + 1))
+  if (( running >= $(nproc) )); then wait -n || true; running=$((running - 1)); fi
+done
+wait
+status=0
+for name in "${names[@]}"; do
+  if [[ "$(cat "$work/$name.status")" != 0 ]]; then
     status=1
     tail -n 60 "$work/$name.log"
     mkdir -p "$build/fuzz-artifacts"
     cp "$work/artifacts-$name/"* "$build/fuzz-artifacts/" 2>/dev/null || true
     echo "fuzz.sh: fuzz_$name FAILED; reproducer(s) copied to $build/fuzz-artifacts/" >&2
   else
-    grep -E '^stat::(number_of_executed_units|average_exec_per_sec|new_units_added|peak_rss_mb)' "$work/$name.log" || true
+    echo "fuzz_$name: $(grep -E '^stat::(number_of_executed_units|average_exec_per_sec|new_units_added|peak_rss_mb)' "$work/$name.log" | tr '\n' ' ')"
   fi
 done
 exit $status

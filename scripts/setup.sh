@@ -2,7 +2,7 @@
 # Installs the Debian 12 packages hprt builds and runs with, only when missing.
 set -euo pipefail
 packages=(
-  build-essential cmake pkg-config git
+  build-essential cmake ninja-build pkg-config git
   libembree-dev libtbb-dev libopenimageio-dev openimageio-tools
   libtinyobjloader-dev libgtest-dev nlohmann-json3-dev libcli11-dev
   libbenchmark-dev zlib1g-dev assimp-testmodels gnuplot-nox

@@ -4,14 +4,14 @@
 // D = U+V+W = d·n and the line crosses the closed triangle iff D != 0 and no
 // two of U, V, W have opposite signs. t = det[A,B,C] / D. All of these are
 // polynomials in the float inputs, evaluated exactly as expansions.
-#include "arbiter.h"
+#include "validators/arbiter.h"
 
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
 
-#include "exact_expansion.h"
+#include "validators/exact_expansion.h"
 
 namespace hprt {
 namespace {

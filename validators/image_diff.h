@@ -1,4 +1,4 @@
-// Image comparison through OpenImageIO's ImageBufAlgo::compare: PSNR, RMSE,
+// Image comparison through OpenImageIO's compare() (io/image/image_codec.h): PSNR, RMSE,
 // max error, pixels over a per-channel threshold, and a diff heat map.
 // Values compared are the stored ones (8-bit files as code/255, so an 8-bit
 // step is 1/255 ~ 0.0039; float files as stored).
@@ -7,7 +7,7 @@
 #include <cstdint>
 #include <string>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 
 namespace hprt {
 

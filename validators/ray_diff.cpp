@@ -1,6 +1,6 @@
 // Ray diff classification and judging against the exact arbiter; rays are
 // classified in parallel (oneTBB, caller's arena), counts summed afterwards.
-#include "ray_diff.h"  // validators/ is on the include path of users only
+#include "validators/ray_diff.h"
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>

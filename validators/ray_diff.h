@@ -9,11 +9,11 @@
 #include <span>
 #include <vector>
 
-#include "arbiter.h"
 #include "backends/intersector.h"
 #include "core/hit.h"
 #include "core/ray.h"
 #include "core/scene.h"
+#include "validators/arbiter.h"
 
 namespace hprt {
 

@@ -1,6 +1,7 @@
-// Ray-set generators for tracing, benchmarks and validation: coherent primary
-// rays, shadow and reflection rays from primary hits, incoherent random rays
-// and hard numerical cases (vertex/edge probes, grazing, axis-parallel, NaN).
+// The catalogue of ray sets, by kind name, for `hprt rays`, `hprt validate
+// rays`, benchmarks and tests: the renderer's workloads (src/workload:
+// primary, shadow, reflection, random) and the hard numerical cases
+// (hard_rays.h: vertex/edge probes, grazing, axis-parallel, NaN).
 #pragma once
 
 #include <cstddef>

@@ -13,8 +13,8 @@
 #include "anim/deformers.h"
 #include "anim/frame_pattern.h"
 #include "core/error.h"
-#include "io/mesh_reader.h"
-#include "io/scene_transform.h"
+#include "io/mesh/mesh_reader.h"
+#include "io/scene/scene_transform.h"
 
 namespace hprt {
 

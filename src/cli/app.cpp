@@ -8,7 +8,7 @@
 
 #include "cli/commands.h"
 #include "core/error.h"
-#include "io/atomic_file.h"
+#include "io/files/atomic_file.h"
 
 #ifndef HPRT_VERSION
 #define HPRT_VERSION "0.1.0"

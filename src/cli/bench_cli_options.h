@@ -6,7 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "bench/bench_options.h"
-#include "bench/report_bench.h"
+#include "bench/report/report_bench.h"
 
 namespace hprt::cli {
 

@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "bench/bench_build.h"
-#include "bench/bench_frontier.h"
+#include "bench/frontier/bench_frontier.h"
 #include "bench/bench_trace.h"
 #include "cli/bench_cli_options.h"
 #include "cli/commands.h"

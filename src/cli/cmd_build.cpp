@@ -17,7 +17,7 @@
 #include "backends/intersector.h"
 #include "cli/commands.h"
 #include "core/parallel.h"
-#include "io/scene_reader.h"
+#include "io/scene/scene_reader.h"
 
 namespace hprt::cli {
 namespace {

@@ -1,5 +1,5 @@
 // `hprt generate KIND [--tris N] [--seed S] [--from MESH] -o OUT.ply`: writes a
-// procedural mesh (io/generate_mesh.h) as binary little-endian PLY, atomically.
+// procedural mesh (io/mesh/generate_mesh.h) as binary little-endian PLY, atomically.
 #include <chrono>
 #include <cstdio>
 #include <memory>
@@ -9,8 +9,8 @@
 #include "cli/output_path.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
-#include "io/generate_mesh.h"
-#include "io/ply_writer.h"
+#include "io/mesh/generate_mesh.h"
+#include "io/mesh/ply_writer.h"
 
 namespace hprt::cli {
 namespace {

@@ -11,8 +11,8 @@
 #include "cli/output_path.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "io/ray_file.h"
-#include "io/scene_reader.h"
+#include "io/rays/ray_file.h"
+#include "io/scene/scene_reader.h"
 #include "validators/ray_sets.h"
 
 namespace hprt::cli {

@@ -15,8 +15,8 @@
 #include "cli/output_path.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
-#include "io/ray_file.h"
-#include "io/scene_reader.h"
+#include "io/rays/ray_file.h"
+#include "io/scene/scene_reader.h"
 
 namespace hprt::cli {
 namespace {

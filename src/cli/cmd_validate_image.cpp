@@ -11,7 +11,7 @@
 #include <string>
 
 #include "cli/commands.h"
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "validators/image_diff.h"
 
 namespace hprt::cli {

@@ -23,7 +23,7 @@ struct FrameSequenceSpec {
   int mesh = 0;
   std::string pattern;  // printf-style path, e.g. "frames/cloth_%04d.ply"
   int first = 0;
-  // The mesh entry's placement (io/scene_transform.h), applied to every frame
+  // The mesh entry's placement (io/scene/scene_transform.h), applied to every frame
   // file as to the mesh itself; filled by the scene reader.
   Vec3f scale{1.0f, 1.0f, 1.0f};
   Vec3f rotate_deg{0.0f, 0.0f, 0.0f};

@@ -15,8 +15,8 @@
 #include "anim/scene_animator.h"
 #include "core/error.h"
 #include "core/parallel.h"
-#include "io/ply_writer.h"
-#include "io/scene_reader.h"
+#include "io/mesh/ply_writer.h"
+#include "io/scene/scene_reader.h"
 #include "meshgen/mesh_generators.h"
 #include "tests/support/cli_test_support.h"
 

@@ -19,8 +19,8 @@
 #include <string>
 #include <vector>
 
-#include "io/image_io.h"
-#include "io/ray_file.h"
+#include "io/image/image_io.h"
+#include "io/rays/ray_file.h"
 #include "tests/support/cli_test_support.h"
 
 namespace fs = std::filesystem;

@@ -7,7 +7,7 @@
 #include <filesystem>
 #include <string>
 
-#include "io/mesh_reader.h"
+#include "io/mesh/mesh_reader.h"
 
 namespace fs = std::filesystem;
 

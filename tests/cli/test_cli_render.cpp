@@ -3,12 +3,13 @@
 // no output file behind.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "tests/support/cli_test_support.h"
 
 namespace fs = std::filesystem;
@@ -140,6 +141,40 @@ TEST_F(CliRender, BadInputExitsTwoAndLeavesNothing) {
   EXPECT_EQ(run("validate image " + path("a.png") + " " + path("nothere.png")).code, 2);
   std::ofstream(dir_ / "junk.png") << "not a png";
   EXPECT_EQ(run("validate image " + path("a.png") + " " + path("junk.png")).code, 2);
+}
+
+// OpenImageIO lives in the image codec module (io/image/image_codec.h): commands
+// that touch no image never load it, and one that does loads it on first use.
+TEST_F(CliRender, OnlyImageCommandsLoadOpenImageIO) {
+  const std::string scene = path("scene.json");
+  const CliResult trace = run("build " + scene, "LD_DEBUG=libs ");
+  ASSERT_EQ(trace.code, 0) << trace.err;
+  EXPECT_NE(trace.err.find("libembree3"), std::string::npos) << "LD_DEBUG shows no libraries?";
+  EXPECT_EQ(trace.err.find("libOpenImageIO"), std::string::npos);
+  const CliResult render =
+      run("render " + scene + " --backend embree -o " + path("a.png"), "LD_DEBUG=libs ");
+  ASSERT_EQ(render.code, 0) << render.err;
+  EXPECT_NE(render.err.find("libhprt_oiio"), std::string::npos);
+  EXPECT_NE(render.err.find("libOpenImageIO"), std::string::npos);
+}
+
+TEST_F(CliRender, MissingImageModuleIsAOneLineErrorAndNoFile) {
+  const CliResult r = run("render " + path("scene.json") + " --backend embree -o " + path("a.png"),
+                          "HPRT_IMAGE_MODULE=" + path("nothere.so") + " ");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find(path("a.png") + ": image support unavailable: no libhprt_oiio.so at " +
+                       path("nothere.so")),
+            std::string::npos)
+      << r.err;
+  EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
+  EXPECT_EQ(output_files(), 0u);
+  // A file that is not the module is refused the same way.
+  std::ofstream(dir_ / "fake.so") << "not a shared object";
+  const CliResult fake = run("render " + path("scene.json") + " -o " + path("a.png"),
+                             "HPRT_IMAGE_MODULE=" + path("fake.so") + " ");
+  EXPECT_EQ(fake.code, 2);
+  EXPECT_NE(fake.err.find("image support unavailable"), std::string::npos) << fake.err;
+  EXPECT_FALSE(fs::exists(path("a.png")));
 }
 
 }  // namespace

@@ -7,7 +7,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "io/ray_file.h"
+#include "io/rays/ray_file.h"
 #include "temp_file.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const uint8_t* data, size_t size) {

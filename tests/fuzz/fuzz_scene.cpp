@@ -13,7 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "core/error.h"
-#include "io/scene_reader.h"
+#include "io/scene/scene_reader.h"
 #include "temp_file.h"
 
 namespace {

@@ -10,7 +10,7 @@
 
 #include "core/error.h"
 #include "core/parallel.h"
-#include "io/generate_mesh.h"
+#include "io/mesh/generate_mesh.h"
 
 using namespace hprt;
 

@@ -1,6 +1,6 @@
 // load_mesh: dispatch by extension, .gz transparency for both formats,
 // corrupt or truncated gzip, missing, empty and unknown files.
-#include "io/mesh_reader.h"
+#include "io/mesh/mesh_reader.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -11,7 +11,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "io/file_bytes.h"
+#include "io/files/file_bytes.h"
 #include "tests/support/cli_test_support.h"
 
 namespace fs = std::filesystem;

@@ -1,6 +1,6 @@
 // OBJ reader: assimp's sample files, fan order across objects and groups,
 // materials and normals policy, and malformed lines named by file and line.
-#include "io/obj_reader.h"
+#include "io/mesh/obj_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -10,7 +10,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "io/mesh_reader.h"
+#include "io/mesh/mesh_reader.h"
 
 namespace fs = std::filesystem;
 using hprt::InputError;

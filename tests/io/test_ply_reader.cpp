@@ -1,6 +1,6 @@
 // PLY reader: assimp's sample files, the three encodings of one mesh with
 // unusual types and extra data, tristrips, non-finite data, hostile headers.
-#include "io/ply_reader.h"
+#include "io/mesh/ply_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -13,7 +13,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "io/mesh_reader.h"
+#include "io/mesh/mesh_reader.h"
 
 namespace fs = std::filesystem;
 using hprt::InputError;

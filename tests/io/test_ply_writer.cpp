@@ -1,6 +1,6 @@
 // write_ply: exact round trip through load_mesh in all three encodings, the
 // header and byte layout, and atomic output.
-#include "io/ply_writer.h"
+#include "io/mesh/ply_writer.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -12,7 +12,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "io/mesh_reader.h"
+#include "io/mesh/mesh_reader.h"
 #include "tests/support/cli_test_support.h"
 
 namespace fs = std::filesystem;

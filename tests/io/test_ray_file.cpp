@@ -1,5 +1,5 @@
 // .rays / .hits / occlusion files: round trips, size checks, missing files.
-#include "io/ray_file.h"
+#include "io/rays/ray_file.h"
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,7 @@
 // Scene JSON reader: the docs/ARCHITECTURE.md example, defaults, strict field checks with
 // JSON paths in errors, relative paths, transforms, material overrides, the
 // bare-mesh scene (framing camera + head light), and the shipped scenes.
-#include "io/scene_reader.h"
+#include "io/scene/scene_reader.h"
 
 #include <gtest/gtest.h>
 
@@ -11,7 +11,7 @@
 
 #include "core/camera.h"
 #include "core/error.h"
-#include "io/ply_writer.h"
+#include "io/mesh/ply_writer.h"
 #include "meshgen/mesh_generators.h"
 
 namespace fs = std::filesystem;

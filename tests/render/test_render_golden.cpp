@@ -8,8 +8,8 @@
 
 #include "backends/intersector.h"
 #include "core/parallel.h"
-#include "io/image_io.h"
-#include "io/scene_reader.h"
+#include "io/image/image_io.h"
+#include "io/scene/scene_reader.h"
 #include "render/whitted.h"
 #include "validators/image_diff.h"
 

@@ -10,7 +10,7 @@
 
 #include "backends/intersector.h"
 #include "core/parallel.h"
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "meshgen/mesh_generators.h"
 #include "render/shading.h"
 #include "render/whitted.h"

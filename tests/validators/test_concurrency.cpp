@@ -11,7 +11,7 @@
 
 #include "backends/intersector.h"
 #include "core/parallel.h"
-#include "io/scene_reader.h"
+#include "io/scene/scene_reader.h"
 #include "meshgen/mesh_generators.h"
 #include "validators/ray_sets.h"
 

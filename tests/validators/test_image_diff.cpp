@@ -9,7 +9,7 @@
 #include <string>
 
 #include "core/error.h"
-#include "io/image_io.h"
+#include "io/image/image_io.h"
 #include "validators/image_diff.h"
 
 namespace hprt {

@@ -1,6 +1,6 @@
-// Ray-set generators: counts, determinism, the defining property of each kind
-// and, through Embree, the hits each kind promises (probes hit, NaN rays miss).
-#include "core/ray_offset.h"
+// The ray-set catalogue: names, counts and determinism of every kind, the
+// defining property of each hard kind and, through Embree, the hits each
+// promises (probes hit, NaN rays miss). The workload kinds: tests/workload.
 #include "validators/ray_sets.h"
 
 #include <gtest/gtest.h>
@@ -9,11 +9,15 @@
 #include <cstring>
 #include <map>
 
-#include "backends/embree_backend.h"
 #include "core/error.h"
+#include "tests/support/embree_reference.h"
 
 namespace hprt {
 namespace {
+
+using test::closest_hits;
+using test::embree_over;
+using test::same_bits;
 
 // Closed icosphere-like mesh: an octahedron subdivided `levels` times with its
 // vertices pushed onto the sphere (shared vertices, so every edge has two
@@ -59,28 +63,9 @@ Scene sphere_scene() {
   return s;
 }
 
-std::unique_ptr<Intersector> embree(const Scene& s, bool robust = false) {
-  BackendOptions o;
-  o.backend = "embree";
-  o.embree_robust = robust;
-  auto b = make_embree_intersector(o);
-  b->build(s);
-  return b;
-}
-
-std::vector<Hit> trace(const Intersector& b, const std::vector<Ray>& rays) {
-  std::vector<Hit> hits(rays.size());
-  b.intersect(rays, hits);
-  return hits;
-}
-
-bool same_bits(const std::vector<Ray>& a, const std::vector<Ray>& b) {
-  return a.size() == b.size() && std::memcmp(a.data(), b.data(), a.size() * sizeof(Ray)) == 0;
-}
-
 TEST(RaySets, EveryKindGivesNRaysDeterministically) {
   const Scene s = sphere_scene();
-  auto b = embree(s);
+  auto b = embree_over(s);
   for (const std::string& name : ray_kind_names()) {
     SCOPED_TRACE(name);
     const RayKind kind = parse_ray_kind(name);
@@ -100,75 +85,6 @@ TEST(RaySets, UnknownKindIsInputError) {
   } catch (const OptionError& e) {
     EXPECT_EQ(e.key(), "kind");  // the CLI shows it as --kind
     EXPECT_EQ(std::string(e.what()).rfind("kind: unknown ray kind 'diagonal'", 0), 0u);
-  }
-}
-
-TEST(RaySets, PrimaryRaysStartAtTheCameraAndMostlyHit) {
-  const Scene s = sphere_scene();
-  const std::vector<Ray> rays = make_rays(s, RayKind::kPrimary, 2000, 1);
-  for (const Ray& r : rays) {
-    EXPECT_EQ(r.org, s.camera.position);
-    EXPECT_NEAR(length(r.dir), 1.0f, 1e-5f);
-    EXPECT_LT(r.dir.z, 0.0f);
-  }
-  auto b = embree(s);
-  size_t hits = 0;
-  for (const Hit& h : trace(*b, rays)) hits += h.hit();
-  EXPECT_GT(hits, 200u);   // the sphere fills part of the view ...
-  EXPECT_LT(hits, 1900u);  // ... not all of it
-}
-
-TEST(RaySets, RandomRaysStartInTheEnlargedBox) {
-  const Scene s = sphere_scene();
-  const AABB box = s.bounds();
-  const AABB big(box.center() - box.diagonal() * 0.5501f, box.center() + box.diagonal() * 0.5501f);
-  size_t outside_original = 0;
-  for (const Ray& r : make_rays(s, RayKind::kRandom, 5000, 3)) {
-    EXPECT_TRUE(big.contains(r.org));
-    outside_original += !box.contains(r.org);
-    EXPECT_NEAR(length(r.dir), 1.0f, 1e-5f);
-  }
-  EXPECT_GT(outside_original, 0u);
-}
-
-TEST(RaySets, ShadowRaysEndJustBeforeThePointLight) {
-  const Scene s = sphere_scene();
-  auto b = embree(s);
-  const std::vector<Ray> rays = make_rays(s, RayKind::kShadow, 1000, 5, b.get());
-  std::vector<uint8_t> occluded(rays.size());
-  b->occluded(rays, occluded);
-  size_t lit_checked = 0;
-  for (size_t i = 0; i < rays.size(); ++i) {
-    const Ray& r = rays[i];
-    EXPECT_NEAR(length(r.org), 1.0f, 0.01f);  // on the sphere
-    const Vec3f to_light = r.org + r.dir;
-    EXPECT_NEAR(to_light.x, 3.0f, 1e-5f);
-    EXPECT_NEAR(to_light.y, 4.0f, 1e-5f);
-    EXPECT_NEAR(to_light.z, 5.0f, 1e-5f);
-    EXPECT_LT(r.tfar, 1.0f);
-    // Facing the light clearly: the offset origin must not see its own
-    // surface (self-intersection) and nothing else is in the way.
-    const float facing = dot(normalize(r.org), normalize(r.dir));
-    if (facing > 0.2f) {
-      ++lit_checked;
-      EXPECT_EQ(occluded[i], 0) << "self-occlusion at ray " << i;
-    }
-    if (facing < -0.2f) {
-      EXPECT_EQ(occluded[i], 1) << "back side not shadowed, ray " << i;
-    }
-  }
-  EXPECT_GT(lit_checked, 100u);
-}
-
-TEST(RaySets, ReflectionRaysLeaveAConvexSphere) {
-  const Scene s = sphere_scene();
-  auto b = embree(s);
-  const std::vector<Ray> rays = make_rays(s, RayKind::kReflection, 1000, 9, b.get());
-  const std::vector<Hit> hits = trace(*b, rays);
-  for (size_t i = 0; i < rays.size(); ++i) {
-    EXPECT_NEAR(length(rays[i].dir), 1.0f, 1e-5f);
-    EXPECT_GT(dot(rays[i].dir, normalize(rays[i].org)), -0.1f);  // outward-ish
-    EXPECT_FALSE(hits[i].hit()) << "reflection ray " << i << " hit the convex sphere";
   }
 }
 
@@ -196,9 +112,9 @@ TEST(RaySets, AxisRaysHaveExactSignedZeros) {
 
 TEST(RaySets, NanRaysAllMissThroughEmbree) {
   const Scene s = sphere_scene();
-  auto b = embree(s);
+  auto b = embree_over(s);
   const std::vector<Ray> rays = make_rays(s, RayKind::kNan, 800, 2);
-  for (const Hit& h : trace(*b, rays)) EXPECT_FALSE(h.hit());
+  for (const Hit& h : closest_hits(*b, rays)) EXPECT_FALSE(h.hit());
   std::vector<uint8_t> occ(rays.size());
   b->occluded(rays, occ);
   for (uint8_t o : occ) EXPECT_EQ(o, 0);
@@ -212,8 +128,8 @@ TEST(RaySets, ProbesFromInsideAClosedMeshHit) {
     const std::vector<Ray> rays = make_rays(s, kind, 3000, 4);
     for (const Ray& r : rays) EXPECT_NEAR(length(r.org - Vec3f(10.0f, -3.0f, 1.0f)), 0.0f, 1e-4f);
     for (bool robust : {false, true}) {
-      auto b = embree(s, robust);
-      const std::vector<Hit> hits = trace(*b, rays);
+      auto b = embree_over(s, robust);
+      const std::vector<Hit> hits = closest_hits(*b, rays);
       size_t leaks = 0;
       for (const Hit& h : hits) leaks += !h.hit();
       if (robust) {
@@ -248,9 +164,9 @@ TEST(RaySets, GrazingRaysSkimTheirTriangle) {
   m.positions = {{0, 0, 0}, {3, 0, 0}, {0, 3, 0}};
   m.triangles = {Vec3u{{0, 1, 2}}};
   s.add_mesh(m);
-  auto b = embree(s, true);
+  auto b = embree_over(s, true);
   const std::vector<Ray> rays = make_rays(s, RayKind::kGrazing, 2000, 6);
-  const std::vector<Hit> hits = trace(*b, rays);
+  const std::vector<Hit> hits = closest_hits(*b, rays);
   size_t up = 0, down = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     const Ray& r = rays[i];
@@ -266,36 +182,22 @@ TEST(RaySets, GrazingRaysSkimTheirTriangle) {
   EXPECT_GT(down, 500u);
   // On a sphere most grazing rays hit (some first clip a neighbour).
   const Scene sphere = sphere_scene();
-  auto bs = embree(sphere, true);
+  auto bs = embree_over(sphere, true);
   size_t hit = 0;
-  for (const Hit& h : trace(*bs, make_rays(sphere, RayKind::kGrazing, 2000, 6))) hit += h.hit();
+  for (const Hit& h : closest_hits(*bs, make_rays(sphere, RayKind::kGrazing, 2000, 6)))
+    hit += h.hit();
   EXPECT_GT(hit, 1800u);
 }
 
-TEST(RaySets, ShadowRaysNeedABackendAndALight) {
+TEST(RaySets, KindsTheSceneCannotGiveAreInputErrors) {
   Scene s = sphere_scene();
   EXPECT_THROW(make_rays(s, RayKind::kShadow, 10, 1, nullptr), std::invalid_argument);
   s.lights.clear();
-  auto b = embree(s);
+  auto b = embree_over(s);
   EXPECT_THROW(make_rays(s, RayKind::kShadow, 10, 1, b.get()), InputError);
-  s.camera.look_at = {0.0f, 0.0f, 10.0f};  // looking away: no primary hits
-  s.lights.push_back(Light{});
-  EXPECT_THROW(make_rays(s, RayKind::kReflection, 10, 1, b.get()), InputError);
-}
-
-TEST(RaySets, OffsetMovesAlongTheNormal) {
-  const Vec3f n = normalize(Vec3f(1.0f, -2.0f, 0.5f));
-  for (const Vec3f p : {Vec3f(0.0f), Vec3f(1e6f, -1e6f, 3.0f), Vec3f(-1e-3f, 0.5f, -100.0f)}) {
-    const Vec3f q = offset_ray(p, n);
-    for (int k = 0; k < 3; ++k) {
-      if (n[k] > 0.0f) {
-        EXPECT_GT(q[k], p[k]);
-      } else if (n[k] < 0.0f) {
-        EXPECT_LT(q[k], p[k]);
-      }
-    }
-    EXPECT_LT(length(q - p), 1e-3f * std::max(1.0f, length(p)));
-  }
+  const Scene empty;
+  EXPECT_THROW(make_rays(empty, RayKind::kGrazing, 10, 1), InputError);
+  EXPECT_THROW(make_rays(empty, RayKind::kAxis, 10, 1), InputError);
 }
 
 }  // namespace

@@ -13,7 +13,7 @@
 #include "anim/scene_animator.h"
 #include "backends/intersector.h"
 #include "core/parallel.h"
-#include "io/scene_reader.h"
+#include "io/scene/scene_reader.h"
 #include "meshgen/mesh_generators.h"
 #include "validators/ray_diff.h"
 #include "validators/ray_sets.h"

@@ -1,0 +1,61 @@
+// Raw record files for rays, hits and occlusion results (see ray_file.h). The
+// in-memory structs are the file records, so reading is one fread.
+#include "io/rays/ray_file.h"
+
+#include <sys/stat.h>
+
+#include <bit>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <memory>
+
+#include "core/error.h"
+#include "io/files/atomic_file.h"
+
+namespace hprt {
+namespace {
+
+static_assert(std::endian::native == std::endian::little,
+              ".rays/.hits are little endian and read by memcpy");
+
+constexpr unsigned long long kMaxFileBytes = 1ull << 34;  // 16 GiB: refuse anything larger
+
+template <typename T>
+std::vector<T> read_records(const std::string& path) {
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0)
+    throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
+  if (!S_ISREG(st.st_mode)) throw InputError(path, "not a regular file");
+  const unsigned long long size = static_cast<unsigned long long>(st.st_size);
+  if (size > kMaxFileBytes)
+    throw InputError(path, "size " + std::to_string(size) + " is above the limit of " +
+                               std::to_string(kMaxFileBytes) + " bytes");
+  if (size % sizeof(T) != 0)
+    throw InputError(path, "size " + std::to_string(size) + " is not a multiple of " +
+                               std::to_string(sizeof(T)));
+  std::vector<T> out(size / sizeof(T));
+  std::unique_ptr<std::FILE, int (*)(std::FILE*)> f(std::fopen(path.c_str(), "rb"), &std::fclose);
+  if (!f) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
+  if (size && std::fread(out.data(), 1, size, f.get()) != size)
+    throw InputError(path, "short read (file changed while reading?)");
+  return out;
+}
+
+}  // namespace
+
+std::vector<Ray> read_rays(const std::string& path) { return read_records<Ray>(path); }
+std::vector<Hit> read_hits(const std::string& path) { return read_records<Hit>(path); }
+std::vector<uint8_t> read_occlusion(const std::string& path) { return read_records<uint8_t>(path); }
+
+void write_rays(const std::string& path, std::span<const Ray> rays) {
+  write_file_atomic(path, rays.data(), rays.size_bytes());
+}
+void write_hits(const std::string& path, std::span<const Hit> hits) {
+  write_file_atomic(path, hits.data(), hits.size_bytes());
+}
+void write_occlusion(const std::string& path, std::span<const uint8_t> occluded) {
+  write_file_atomic(path, occluded.data(), occluded.size_bytes());
+}
+
+}  // namespace hprt
