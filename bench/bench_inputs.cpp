@@ -2,6 +2,7 @@
 #include "bench/bench_inputs.h"
 
 #include <filesystem>
+#include <utility>
 
 #include "io/scene/scene_reader.h"
 #include "meshgen/mesh_generators.h"
@@ -30,20 +31,26 @@ std::string with_commas(size_t n) {
   return out;
 }
 
+BenchInput framed_input(TriangleMesh mesh, std::string source) {
+  BenchInput in;
+  in.label = mesh.name;
+  in.source = std::move(source);
+  in.scene.add_mesh(std::move(mesh));
+  Camera lens;  // default lens, framed on the mesh like a bare mesh file
+  in.scene.camera = framing_camera(in.scene.bounds(), lens);
+  in.scene.lights.push_back(head_light(in.scene.camera));
+  return in;
+}
+
 BenchInput generated_input(size_t tris) {
   TriangleMesh mesh = generate_torus(tris);
   const size_t full = mesh.triangles.size();
   mesh.triangles.resize(tris);
   mesh.name = "torus-" + std::to_string(tris);
-  BenchInput in;
-  in.label = mesh.name;
-  in.source = "generated torus of " + with_commas(full) + " triangles cut to " + with_commas(tris);
+  BenchInput in = framed_input(std::move(mesh), "generated torus of " + with_commas(full) +
+                                                    " triangles cut to " + with_commas(tris));
   for (const auto& m : report_models())
     if (m.triangles == tris) in.report_model = std::string(m.name) + " (size)";
-  in.scene.add_mesh(std::move(mesh));
-  Camera lens;  // default lens, framed on the mesh like a bare mesh file
-  in.scene.camera = framing_camera(in.scene.bounds(), lens);
-  in.scene.lights.push_back(head_light(in.scene.camera));
   return in;
 }
 

@@ -27,6 +27,10 @@ struct ReportModel {
 };
 const std::vector<ReportModel>& report_models();
 
+// `mesh` alone, labelled by its name, framed by the default camera and head
+// light of a bare mesh file.
+BenchInput framed_input(TriangleMesh mesh, std::string source);
+
 // A torus (hprt generate torus) with the smallest grid of at least `tris`
 // triangles, its last triangles dropped so it has exactly `tris` (a sliver of
 // an open seam; harmless for build and trace timing). Framed by the default

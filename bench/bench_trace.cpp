@@ -1,8 +1,9 @@
 // Trace benchmark. Renders: the scene's camera with its focal length and
 // resolution replaced, each backend built once per scene (build excluded),
 // render_whitted timed. Ray kinds: the same ray set (validators/ray_sets.h,
-// seed 1) through both backends, closest hit for primary, reflection and
-// random rays, any hit (occluded) for shadow rays, the batch call timed.
+// seed 1) through both backends, closest hit for primary, reflection,
+// diffuse and random rays, any hit (occluded) for shadow rays, the batch call
+// timed; on the scenes and on the large-mesh suite.
 #include "bench/bench_trace.h"
 
 #include <cstdint>
@@ -15,8 +16,10 @@
 #include "backends/intersector.h"
 #include "bench/bench_inputs.h"
 #include "bench/bench_timing.h"
+#include "bench/trace_suite.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "meshgen/mesh_generators.h"
 #include "render/progress.h"
 #include "render/whitted.h"
 #include "validators/ray_sets.h"
@@ -46,16 +49,32 @@ double mrays(size_t rays, double ms) { return ms > 0 ? double(rays) / (ms * 1e3)
 constexpr float kFocalsMm[] = {6.0f, 13.0f};
 constexpr const char* kBackends[] = {"bvh", "embree"};
 constexpr RayKind kKinds[] = {RayKind::kPrimary, RayKind::kShadow, RayKind::kReflection,
-                              RayKind::kRandom};
+                              RayKind::kDiffuse, RayKind::kRandom};
+
+void require_triangles(const std::vector<BenchInput>& inputs) {
+  for (const auto& in : inputs)
+    if (in.scene.triangle_count() == 0) throw InputError(in.source, "scene has no triangles");
+}
 
 // Inputs first, so a missing file fails before any timing.
 std::vector<BenchInput> load_inputs(const TraceBenchConfig& config) {
   std::vector<BenchInput> inputs;
   for (const auto& path : config.scenes.empty() ? default_trace_scenes() : config.scenes)
     inputs.push_back(file_input(path));
-  for (const auto& in : inputs)
-    if (in.scene.triangle_count() == 0) throw InputError(in.source, "scene has no triangles");
+  require_triangles(inputs);
   return inputs;
+}
+
+Suite load_trace_suite(const TraceBenchConfig& config) {
+  if (!config.suite) return {};
+  const bool quick = config.common.quick;
+  const size_t tris = config.suite_tris ? config.suite_tris : (quick ? 20'000 : 1'000'000);
+  if (tris > kMaxGenerateTriangles)
+    throw OptionError("suite_tris", "at most " + with_commas(kMaxGenerateTriangles) +
+                                        " triangles, got " + with_commas(tris));
+  Suite suite = load_suite(tris, config.meshes, /*with_default_meshes=*/!quick);
+  require_triangles(suite.inputs);
+  return suite;
 }
 
 Table make_render_table() {
@@ -242,10 +261,15 @@ void time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t n_ray
 }
 
 void add_notes(BenchReport& report, Table& render, Table& rays,
-               const std::vector<BenchInput>& inputs, bool quick) {
+               const std::vector<BenchInput>& inputs, const Suite& suite, bool quick) {
   for (const auto& in : inputs)
     report.add_note(in.label + ": " + in.source + " (" + with_commas(in.scene.triangle_count()) +
                     " triangles, " + std::to_string(in.scene.meshes.size()) + " meshes)");
+  for (const auto& in : suite.inputs)
+    report.add_note("suite " + in.label + ": " + in.source + " (" +
+                    with_commas(in.scene.triangle_count()) + " triangles; ray kinds only)");
+  for (const auto& path : suite.skipped)
+    report.add_note("suite: " + path + " skipped (absent; give mesh paths with --meshes)");
   render.add_note(
       "render_ms: median of reps of render_whitted (build excluded; bvh and embree repetitions "
       "alternating); rays = primary + "
@@ -263,7 +287,9 @@ void add_notes(BenchReport& report, Table& render, Table& rays,
       "validators/ray_sets (seed 1), bvh and embree repetitions alternating: primary = jittered "
       "camera rays in scanline order; "
       "shadow = from primary hits to light 0 (any-hit); reflection = mirror rays at "
-      "primary hits; random = incoherent origins and directions.");
+      "primary hits; diffuse = cosine-weighted bounce rays at primary hits (a path tracer's "
+      "incoherent secondary rays); random = incoherent origins and directions. Scenes and the "
+      "large-mesh suite (rows named bumpy-, soup-, sheet- and by mesh file) alike.");
 }
 
 }  // namespace
@@ -295,6 +321,7 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
       o.quick ? std::vector<Resolution>{{160, 120}, {384, 216}}
               : std::vector<Resolution>{{800, 600}, {1920, 1080}};
   const std::vector<BenchInput> inputs = load_inputs(config);
+  const Suite suite = load_trace_suite(config);
 
   BenchReport report("trace", "Render time and ray throughput (report Table 2, Embree beside)", o);
   report.set_param("threads", threads);
@@ -311,7 +338,8 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
 
   const size_t steps = inputs.size() * (std::size(kFocalsMm) * resolutions.size() *
                                             std::size(kBackends) * threads.size() +
-                                        std::size(kKinds) * threads.size());
+                                        std::size(kKinds) * threads.size()) +
+                       suite.inputs.size() * std::size(kKinds) * threads.size();
   Progress progress("bench trace", steps, o.progress);
   for (const auto& in : inputs) {
     const RenderGrid rr =
@@ -319,8 +347,10 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
     add_render_rows(render, in, rr, resolutions, threads);
     for (int t : threads) time_ray_kinds(rays, in, t, n_rays, reps, config.layout, progress);
   }
+  for (const auto& in : suite.inputs)
+    for (int t : threads) time_ray_kinds(rays, in, t, n_rays, reps, config.layout, progress);
   progress.finish();
-  add_notes(report, render, rays, inputs, o.quick);
+  add_notes(report, render, rays, inputs, suite, o.quick);
   return report;
 }
 

@@ -1,7 +1,8 @@
 // `hprt bench trace`: the report's Table 2 and more. Whitted render time per
 // scene, focal length (6, 13 mm) and resolution (800x600, 1920x1080) for each
 // backend at 1 thread and all threads; and Mrays/s per ray kind (primary,
-// shadow, reflection, random) bvh against embree with the ratio.
+// shadow, reflection, diffuse, random) bvh against embree with the ratio, on
+// the scenes and on the large-mesh suite (bench/trace_suite.h).
 #pragma once
 
 #include <string>
@@ -18,6 +19,9 @@ struct TraceBenchConfig {
   std::vector<std::string> scenes;      // scene JSON or mesh files; empty = the default set
   size_t rays = 0;                      // rays per kind; 0 = 1,000,000 (quick: 20,000)
   BvhLayout layout = BvhLayout::kBvh8;  // the bvh backend's traversal layout
+  bool suite = true;                    // also the large-mesh suite (ray kinds only)
+  std::vector<std::string> meshes;      // the suite's mesh files; empty = default_suite_meshes()
+  size_t suite_tris = 0;                // generated suite meshes; 0 = 1,000,000 (quick: 20,000)
 };
 
 // The default scenes: data/scenes/single_13mm.json (one model) and

@@ -16,15 +16,16 @@ struct KindName {
   RayKind kind;
   const char* name;
 };
-constexpr std::array<KindName, 9> kKinds{{{RayKind::kPrimary, "primary"},
-                                          {RayKind::kShadow, "shadow"},
-                                          {RayKind::kReflection, "reflection"},
-                                          {RayKind::kRandom, "random"},
-                                          {RayKind::kVertexProbe, "vertex-probe"},
-                                          {RayKind::kEdgeProbe, "edge-probe"},
-                                          {RayKind::kGrazing, "grazing"},
-                                          {RayKind::kAxis, "axis"},
-                                          {RayKind::kNan, "nan"}}};
+constexpr std::array<KindName, 10> kKinds{{{RayKind::kPrimary, "primary"},
+                                           {RayKind::kShadow, "shadow"},
+                                           {RayKind::kReflection, "reflection"},
+                                           {RayKind::kDiffuse, "diffuse"},
+                                           {RayKind::kRandom, "random"},
+                                           {RayKind::kVertexProbe, "vertex-probe"},
+                                           {RayKind::kEdgeProbe, "edge-probe"},
+                                           {RayKind::kGrazing, "grazing"},
+                                           {RayKind::kAxis, "axis"},
+                                           {RayKind::kNan, "nan"}}};
 
 }  // namespace
 
@@ -32,6 +33,10 @@ std::string_view to_string(RayKind kind) {
   for (const KindName& k : kKinds)
     if (k.kind == kind) return k.name;
   return "?";
+}
+
+bool ray_kind_needs_backend(RayKind kind) {
+  return kind == RayKind::kShadow || kind == RayKind::kReflection || kind == RayKind::kDiffuse;
 }
 
 RayKind parse_ray_kind(std::string_view name) {
@@ -60,6 +65,8 @@ std::vector<Ray> make_rays(const Scene& scene, RayKind kind, size_t n, uint64_t 
       return shadow_rays(scene, n, rng, backend);
     case RayKind::kReflection:
       return reflection_rays(scene, n, rng, backend);
+    case RayKind::kDiffuse:
+      return diffuse_rays(scene, n, rng, backend);
     case RayKind::kRandom:
       return random_rays(scene, n, rng);
     case RayKind::kVertexProbe:

@@ -1,13 +1,14 @@
 // Height-field generators over [-1,1]² (xz plane, +y up): terrain from seeded
 // value noise (hashed lattice values, smoothstep interpolation, 5 octaves of
-// doubling frequency and halving amplitude) and a flat plane on the same grid.
+// doubling frequency and halving amplitude), a flat plane on the same grid,
+// and a terrain sheet of sliver cells.
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
 #include <cmath>
 
-#include "meshgen/mesh_generators.h"
 #include "core/splitmix64.h"
+#include "meshgen/mesh_generators.h"
 
 namespace hprt {
 namespace {
@@ -40,27 +41,27 @@ double value_noise(uint64_t seed, double x, double z) {
   return height;
 }
 
-TriangleMesh height_field(size_t tris, bool noise, uint64_t seed) {
-  const size_t g = size_t(grid_segments(tris));
-  const size_t row = g + 1;
+// gx x gz cells over [-1,1]², each split into two triangles.
+TriangleMesh height_field(size_t gx, size_t gz, bool noise, uint64_t seed) {
+  const size_t row = gx + 1;
   TriangleMesh mesh;
-  mesh.positions.resize(row * row);
-  mesh.triangles.resize(2 * g * g);
-  tbb::parallel_for(size_t{0}, row, [&](size_t k) {
-    const double z = -1.0 + 2.0 * double(k) / double(g);
+  mesh.positions.resize(row * (gz + 1));
+  mesh.triangles.resize(2 * gx * gz);
+  tbb::parallel_for(size_t{0}, gz + 1, [&](size_t k) {
+    const double z = -1.0 + 2.0 * double(k) / double(gz);
     for (size_t i = 0; i < row; ++i) {
-      const double x = -1.0 + 2.0 * double(i) / double(g);
+      const double x = -1.0 + 2.0 * double(i) / double(gx);
       const double y = noise ? value_noise(seed, x, z) : 0.0;
       mesh.positions[k * row + i] = Vec3f(Vec3d(x, y, z));
     }
   });
-  for (size_t k = 0; k < g; ++k)
-    for (size_t i = 0; i < g; ++i) {
+  for (size_t k = 0; k < gz; ++k)
+    for (size_t i = 0; i < gx; ++i) {
       const uint32_t a = uint32_t(k * row + i), b = a + 1;
       const uint32_t d = uint32_t(a + row), c = d + 1;
       // Counter-clockwise seen from +y.
-      mesh.triangles[2 * (k * g + i)] = Vec3u{{a, c, b}};
-      mesh.triangles[2 * (k * g + i) + 1] = Vec3u{{a, d, c}};
+      mesh.triangles[2 * (k * gx + i)] = Vec3u{{a, c, b}};
+      mesh.triangles[2 * (k * gx + i) + 1] = Vec3u{{a, d, c}};
     }
   return mesh;
 }
@@ -75,15 +76,32 @@ int grid_segments(size_t tris) {
 }
 
 TriangleMesh generate_terrain(size_t tris, uint64_t seed) {
-  TriangleMesh mesh = height_field(tris, true, seed);
+  const size_t g = size_t(grid_segments(tris));
+  TriangleMesh mesh = height_field(g, g, true, seed);
   mesh.name =
       "terrain(" + std::to_string(mesh.triangle_count()) + ", seed " + std::to_string(seed) + ")";
   return mesh;
 }
 
 TriangleMesh generate_plane(size_t tris) {
-  TriangleMesh mesh = height_field(tris, false, 0);
+  const size_t g = size_t(grid_segments(tris));
+  TriangleMesh mesh = height_field(g, g, false, 0);
   mesh.name = "plane(" + std::to_string(mesh.triangle_count()) + ")";
+  return mesh;
+}
+
+}  // namespace hprt
+
+namespace hprt {
+
+TriangleMesh generate_sliver_sheet(size_t tris, uint64_t seed) {
+  // Cells kSliverAspect times longer in x than in z: gz = aspect * gx and
+  // 2 * gx * gz >= tris.
+  size_t gx = std::max<size_t>(1, size_t(std::sqrt(double(tris) / (2.0 * kSliverAspect))));
+  while (2 * gx * gx * kSliverAspect < tris) ++gx;
+  TriangleMesh mesh = height_field(gx, gx * kSliverAspect, true, seed);
+  mesh.name =
+      "sheet(" + std::to_string(mesh.triangle_count()) + ", seed " + std::to_string(seed) + ")";
   return mesh;
 }
 

@@ -31,6 +31,12 @@ inline constexpr size_t kMaxGenerateTriangles = 200'000'000;
 int sphere_segments(size_t tris);
 TriangleMesh generate_sphere(size_t tris);
 
+// Bumpy sphere: generate_sphere's mesh (same triangles, closed, outward) with
+// each vertex moved along its direction by 24 seeded plane waves over the
+// sphere (frequencies 2..40, amplitude ~ 1/frequency): radius within 1 ± 0.2,
+// smooth and curved at many scales, like a scanned surface.
+TriangleMesh generate_bumpy_sphere(size_t tris, uint64_t seed);
+
 // Torus around the y axis (major radius 1, minor 0.35): a major × minor grid of
 // quads, 2·major·minor triangles with minor = max(3, round(sqrt(tris/6))) and
 // major = max(3, ceil(tris / (2·minor))), so at least `tris` and fewer than
@@ -52,6 +58,12 @@ TriangleMesh generate_slivers(size_t tris, uint64_t seed);
 int grid_segments(size_t tris);
 TriangleMesh generate_terrain(size_t tris, uint64_t seed);
 TriangleMesh generate_plane(size_t tris);
+
+// Sliver sheet: the terrain's height field on gx × (100·gx) cells, each
+// 100 times longer in x than in z, so every triangle is a 100:1 sliver; gx
+// the smallest with 200·gx² >= tris. Open, normals facing +y.
+inline constexpr size_t kSliverAspect = 100;
+TriangleMesh generate_sliver_sheet(size_t tris, uint64_t seed);
 
 // Midpoint subdivision: each triangle becomes 4, edge midpoints shared through
 // an edge table (so a closed mesh stays closed, winding is kept); repeated

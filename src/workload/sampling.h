@@ -23,6 +23,23 @@ inline Vec3f uniform_sphere(SplitMix64& rng) {
   return {r * std::cos(phi), r * std::sin(phi), z};
 }
 
+// Cosine-weighted on the hemisphere around the unit vector n (Malley: a
+// uniform point of the unit disk lifted onto the hemisphere), in the
+// orthonormal basis of Duff et al., "Building an Orthonormal Basis,
+// Revisited" (JCGT 2017). Unit length.
+inline Vec3f cosine_hemisphere(const Vec3f& n, SplitMix64& rng) {
+  const float sign = std::copysign(1.0f, n.z);
+  const float a = -1.0f / (sign + n.z);
+  const float b = n.x * n.y * a;
+  const Vec3f t(1.0f + sign * n.x * n.x * a, sign * b, -sign * n.x);
+  const Vec3f bt(b, sign + n.y * n.y * a, -n.y);
+  const float u1 = rng.uniform(), u2 = rng.uniform();
+  const float r = std::sqrt(u1);
+  const float phi = 2.0f * std::numbers::pi_v<float> * u2;
+  return normalize(t * (r * std::cos(phi)) + bt * (r * std::sin(phi)) +
+                   n * std::sqrt(std::max(0.0f, 1.0f - u1)));
+}
+
 // The scene's bounds, or the box [-1, 1]^3 for an empty scene.
 inline AABB scene_box_or_unit(const Scene& scene) {
   AABB b = scene.bounds();

@@ -61,6 +61,18 @@ std::vector<Ray> reflection_rays(const Scene& scene, size_t n, SplitMix64& rng,
   return rays;
 }
 
+std::vector<Ray> diffuse_rays(const Scene& scene, size_t n, SplitMix64& rng,
+                              const Intersector* backend) {
+  const std::vector<SurfaceHit> hits = primary_surface_hits(scene, n, rng, backend, "diffuse");
+  std::vector<Ray> rays(n);
+  for (size_t i = 0; i < n; ++i) {
+    const Vec3f& nrm = hits[i].n;
+    rays[i].org = offset_ray(hits[i].p, nrm);
+    rays[i].dir = cosine_hemisphere(nrm, rng);
+  }
+  return rays;
+}
+
 std::vector<Ray> random_rays(const Scene& scene, size_t n, SplitMix64& rng) {
   const AABB box = scene_box_or_unit(scene);
   const Vec3f c = box.center(), half = box.diagonal() * 0.55f;  // 10% larger box

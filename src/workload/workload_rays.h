@@ -1,6 +1,6 @@
 // The rays a renderer traces, as sets for benchmarks, tests and validation:
-// coherent camera rays, shadow and mirror rays from their hits, and
-// incoherent random rays. Each draws from the caller's splitmix64 stream, so
+// coherent camera rays, shadow, mirror and diffuse bounce rays from their
+// hits, and incoherent random rays. Each draws from the caller's splitmix64 stream, so
 // a set is the same for the same stream state on any platform.
 #pragma once
 
@@ -28,6 +28,12 @@ std::vector<Ray> shadow_rays(const Scene& scene, size_t n, SplitMix64& rng,
 // The mirror direction at primary hits.
 std::vector<Ray> reflection_rays(const Scene& scene, size_t n, SplitMix64& rng,
                                  const Intersector* backend);
+
+// Cosine-weighted directions over the hemisphere of the normal at primary
+// hits (the side the camera sees): the bounce rays of a path tracer's diffuse
+// surfaces, the standard incoherent secondary rays. Unit directions.
+std::vector<Ray> diffuse_rays(const Scene& scene, size_t n, SplitMix64& rng,
+                              const Intersector* backend);
 
 // Origins uniform in the scene box enlarged by 10%, directions uniform on the
 // sphere.

@@ -143,8 +143,11 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
       {"generate": {"kind": "sphere", "tris": 1000}, "transform": {"translate": [0, 1, 0]},
        "material": {"diffuse": [0.8, 0.2, 0.2], "reflectivity": 0.5}}
     ]})";
+  generate("sphere", 500, "extra.ply");
   const CliResult r = run("bench trace " + path("scene.json") +
-                          " --quick --threads 2 --rays 2000 --layout bvh4 --out " + path("out"));
+                          " --quick --threads 2 --rays 2000 --layout bvh4 --suite-tris 2000 "
+                          "--meshes " +
+                          path("extra.ply") + " --out " + path("out"));
   ASSERT_EQ(r.code, 0) << r.err;
   EXPECT_NE(slurp(dir_ / "out" / "trace.json").find("watertight test, bvh4 layout"),
             std::string::npos);
@@ -169,16 +172,26 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
 
   const Csv rays = read_csv(dir_ / "out" / "trace_rays.csv");
   std::multiset<std::string> kinds;
+  std::map<std::string, int> rows_per_input;
   for (const auto& row : rays.rows) {
     kinds.insert(row.at("ray_kind"));
+    ++rows_per_input[row.at("scene")];
     EXPECT_EQ(row.at("rays"), "2000");
     EXPECT_GT(number(row.at("bvh_mrays_per_s")), 0.0);
     EXPECT_GT(number(row.at("embree_mrays_per_s")), 0.0);
     EXPECT_GT(number(row.at("bvh_over_embree")), 0.0);
     EXPECT_EQ(row.at("query"), row.at("ray_kind") == "shadow" ? "occluded" : "intersect");
   }
-  for (const char* k : {"primary", "shadow", "reflection", "random"})
-    EXPECT_EQ(kinds.count(k), 2u) << k;
+  // The scene and the large-mesh suite (generated bumpy sphere, soup and
+  // sliver sheet, and the mesh given): every kind at 1 and 2 threads.
+  const std::map<std::string, int> expected_inputs{{"scene.json", 10},
+                                                   {"bumpy-2000", 10},
+                                                   {"soup-2000", 10},
+                                                   {"sheet-3200", 10},
+                                                   {"extra.ply", 10}};
+  EXPECT_EQ(rows_per_input, expected_inputs);
+  for (const char* k : {"primary", "shadow", "reflection", "diffuse", "random"})
+    EXPECT_EQ(kinds.count(k), 10u) << k;
   check_json("trace.json", "rays", rays);
 }
 
@@ -248,6 +261,12 @@ TEST_F(Bench, BadOptionsExitTwo) {
   EXPECT_EQ(r.code, 2);
   r = run("bench trace --quick --threads -1");
   EXPECT_EQ(r.code, 2);
+  r = run("bench trace --quick --meshes " + path("missing.ply"));
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("missing.ply"), std::string::npos) << r.err;
+  r = run("bench trace --quick --suite-tris 300000000");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--suite-tris"), std::string::npos) << r.err;
   r = run("bench");  // a subcommand is required
   EXPECT_EQ(r.code, 2);
   EXPECT_FALSE(fs::exists(dir_ / "out" / "build.json"));

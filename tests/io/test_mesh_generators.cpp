@@ -87,6 +87,34 @@ TEST(MeshGenerators, SphereClosedOnUnitSphereOutward) {
   EXPECT_NEAR(signed_volume(generate_sphere(20000)), 4.0 / 3.0 * M_PI, 0.01);
 }
 
+TEST(MeshGenerators, BumpySphereClosedOutwardAndBumpy) {
+  for (size_t n : {80u, 3000u, 20000u}) {
+    const TriangleMesh m = generate_bumpy_sphere(n, 5);
+    const TriangleMesh s = generate_sphere(n);
+    EXPECT_EQ(m.triangles, s.triangles) << n;  // the sphere's connectivity
+    EXPECT_TRUE(closed_and_oriented(m)) << n;
+    EXPECT_TRUE(all_valid(m)) << n;
+    EXPECT_GT(signed_volume(m), 0.0);
+    float lo = 2.0f, hi = 0.0f;
+    for (size_t i = 0; i < m.positions.size(); ++i) {
+      const float r = length(m.positions[i]);
+      lo = std::min(lo, r);
+      hi = std::max(hi, r);
+      // Moved along its own direction only.
+      ASSERT_LT(length(m.positions[i] / r - s.positions[i]), 1e-5f);
+    }
+    EXPECT_GE(lo, 0.8f);
+    EXPECT_LE(hi, 1.2f);
+    if (n >= 3000) {
+      EXPECT_GT(hi - lo, 0.1f) << "not bumpy";
+    }
+  }
+  EXPECT_TRUE(same_mesh(generate_bumpy_sphere(1000, 3), generate_bumpy_sphere(1000, 3)));
+  EXPECT_FALSE(same_mesh(generate_bumpy_sphere(1000, 3), generate_bumpy_sphere(1000, 4)));
+  EXPECT_TRUE(same_mesh(run_with_threads(1, [] { return generate_bumpy_sphere(50000, 9); }),
+                        run_with_threads(2, [] { return generate_bumpy_sphere(50000, 9); })));
+}
+
 TEST(MeshGenerators, TorusCountClosedOutward) {
   for (size_t n : {1u, 18u, 1000u, 20000u}) {
     const TriangleMesh m = generate_torus(n);
@@ -144,6 +172,28 @@ TEST(MeshGenerators, RandomKindsIndependentOfThreadCount) {
     EXPECT_TRUE(same_mesh(run_with_threads(1, [&] { return generate_terrain(n, 9); }),
                           run_with_threads(threads, [&] { return generate_terrain(n, 9); })));
   }
+}
+
+TEST(MeshGenerators, SliverSheetIsAHeightFieldOfHundredToOneSlivers) {
+  for (size_t n : {1u, 200u, 5000u, 100000u}) {
+    const TriangleMesh m = generate_sliver_sheet(n, 3);
+    EXPECT_GE(m.triangle_count(), n);
+    const size_t gx =
+        size_t(std::lround(std::sqrt(double(m.triangle_count()) / (2.0 * kSliverAspect))));
+    ASSERT_EQ(m.triangle_count(), 2 * gx * gx * kSliverAspect) << n;
+    EXPECT_LT(2 * (gx - 1) * (gx - 1) * kSliverAspect, n) << "not the smallest grid";
+    EXPECT_TRUE(all_valid(m)) << n;
+    for (const Vec3u& t : m.triangles) {
+      const Vec3f a = m.positions[t[0]], b = m.positions[t[1]], c = m.positions[t[2]];
+      ASSERT_GT(cross(b - a, c - a).y, 0.0f);  // faces +y
+      // Projected onto xz, a right triangle with legs 2/gx and 2/(100 gx).
+      const float dx = std::max({a.x, b.x, c.x}) - std::min({a.x, b.x, c.x});
+      const float dz = std::max({a.z, b.z, c.z}) - std::min({a.z, b.z, c.z});
+      ASSERT_NEAR(dx / dz, float(kSliverAspect), 0.01f * kSliverAspect);
+    }
+  }
+  EXPECT_TRUE(same_mesh(generate_sliver_sheet(5000, 3), generate_sliver_sheet(5000, 3)));
+  EXPECT_FALSE(same_mesh(generate_sliver_sheet(5000, 3), generate_sliver_sheet(5000, 4)));
 }
 
 TEST(MeshGenerators, TerrainAndPlaneGrid) {

@@ -41,7 +41,7 @@ TEST(WorkloadRays, SameStreamSameRaysEveryKind) {
   const Make kinds[] = {[](const Scene& sc, size_t n, SplitMix64& r, const Intersector*) {
                           return primary_rays(sc, n, r);
                         },
-                        shadow_rays, reflection_rays,
+                        shadow_rays, reflection_rays, diffuse_rays,
                         [](const Scene& sc, size_t n, SplitMix64& r, const Intersector*) {
                           return random_rays(sc, n, r);
                         }};
@@ -144,6 +144,45 @@ TEST(WorkloadRays, ReflectionRaysLeaveAConvexSphere) {
     EXPECT_GT(dot(rays[i].dir, normalize(rays[i].org)), -0.1f);  // outward-ish
     EXPECT_FALSE(hits[i].hit()) << "reflection ray " << i << " hit the convex sphere";
   }
+}
+
+TEST(WorkloadRays, CosineHemisphereHasTheCosineMean) {
+  // E[cos] = 2/3 and E[cos^2] = 1/2 under the cosine-weighted density.
+  for (const Vec3f n : {Vec3f(0, 0, 1), Vec3f(0, 0, -1), normalize(Vec3f(1, -2, 0.5f)),
+                        normalize(Vec3f(-0.3f, 0.1f, -1e-4f))}) {
+    SplitMix64 rng(17);
+    double sum = 0.0, sum2 = 0.0;
+    const int kSamples = 200000;
+    for (int i = 0; i < kSamples; ++i) {
+      const Vec3f d = cosine_hemisphere(n, rng);
+      ASSERT_NEAR(length(d), 1.0f, 1e-5f);
+      const double c = dot(d, n);
+      ASSERT_GE(c, -1e-6);
+      sum += c;
+      sum2 += c * c;
+    }
+    EXPECT_NEAR(sum / kSamples, 2.0 / 3.0, 0.005) << n.x << " " << n.y << " " << n.z;
+    EXPECT_NEAR(sum2 / kSamples, 0.5, 0.005);
+  }
+}
+
+TEST(WorkloadRays, DiffuseRaysLeaveAConvexSphereOnTheCameraSide) {
+  const Scene s = sphere_scene();
+  auto b = embree_over(s);
+  SplitMix64 rng(21);
+  const std::vector<Ray> rays = diffuse_rays(s, 2000, rng, b.get());
+  const std::vector<Hit> hits = closest_hits(*b, rays);
+  double mean_cos = 0.0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const Vec3f n = normalize(rays[i].org);  // outward normal of the unit sphere
+    EXPECT_NEAR(length(rays[i].dir), 1.0f, 1e-5f);
+    // n is the radial normal, within ~0.06 rad of the facet's.
+    EXPECT_GE(dot(s.camera.position - rays[i].org, n), -0.1f);  // a point the camera sees
+    EXPECT_GE(dot(rays[i].dir, n), -0.1f);                      // the hemisphere outside the sphere
+    EXPECT_FALSE(hits[i].hit()) << "diffuse ray " << i << " hit the convex sphere";
+    mean_cos += dot(rays[i].dir, n);
+  }
+  EXPECT_NEAR(mean_cos / double(rays.size()), 2.0 / 3.0, 0.03);
 }
 
 TEST(WorkloadRays, SecondaryRaysNeedABackendALightAndAVisibleScene) {

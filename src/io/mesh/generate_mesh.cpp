@@ -8,8 +8,8 @@
 namespace hprt {
 
 const std::vector<std::string>& generator_kinds() {
-  static const std::vector<std::string> kinds{"sphere",  "torus", "soup",     "slivers",
-                                              "terrain", "plane", "subdivide"};
+  static const std::vector<std::string> kinds{"sphere",  "bumpy",   "torus", "soup",
+                                              "slivers", "terrain", "plane", "subdivide"};
   return kinds;
 }
 
@@ -21,9 +21,11 @@ TriangleMesh generate_mesh(const GenerateSpec& spec) {
   if (spec.kind != "subdivide" && !spec.from.empty())
     throw OptionError("from", "only used by 'subdivide', not '" + spec.kind + "'");
   if (spec.kind == "sphere") return generate_sphere(spec.tris);
+  if (spec.kind == "bumpy") return generate_bumpy_sphere(spec.tris, spec.seed);
   if (spec.kind == "torus") return generate_torus(spec.tris);
   if (spec.kind == "soup") return generate_soup(spec.tris, spec.seed);
   if (spec.kind == "slivers") return generate_slivers(spec.tris, spec.seed);
+  if (spec.kind == "sheet") return generate_sliver_sheet(spec.tris, spec.seed);
   if (spec.kind == "terrain") return generate_terrain(spec.tris, spec.seed);
   if (spec.kind == "plane") return generate_plane(spec.tris);
   if (spec.kind == "subdivide") {

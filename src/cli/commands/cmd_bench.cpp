@@ -5,8 +5,8 @@
 #include <vector>
 
 #include "bench/bench_build.h"
-#include "bench/frontier/bench_frontier.h"
 #include "bench/bench_trace.h"
+#include "bench/frontier/bench_frontier.h"
 #include "cli/bench_cli_options.h"
 #include "cli/commands.h"
 
@@ -45,6 +45,9 @@ struct TraceCmd {
   std::vector<std::string> scenes;
   size_t rays = 0;
   std::string layout = "bvh8";
+  std::vector<std::string> meshes;
+  bool no_suite = false;
+  size_t suite_tris = 0;
 };
 
 void add_trace(CLI::App& bench) {
@@ -57,6 +60,14 @@ void add_trace(CLI::App& bench) {
   cmd->add_option("--rays", a->rays, "rays per ray kind (default 1,000,000; --quick 20,000)");
   cmd->add_option("--layout", a->layout, "bvh traversal layout (binary, 4- or 8-wide nodes)")
       ->check(CLI::IsMember({"bvh2", "bvh4", "bvh8"}));
+  cmd->add_option("--meshes", a->meshes,
+                  "mesh files of the large-mesh suite (default: dragon.ply.gz, happy_buddha.obj, "
+                  "lucy.obj, armadillo.obj, sponza.obj.gz under ../shared/data/meshes, each "
+                  "skipped with a note when absent; --quick: none)");
+  cmd->add_option("--suite-tris", a->suite_tris,
+                  "triangles of the suite's generated bumpy sphere, soup and sliver sheet (default "
+                  "1,000,000; --quick 20,000)");
+  cmd->add_flag("--no-suite", a->no_suite, "skip the large-mesh suite");
   add_bench_common_options(*cmd, a->common);
   cmd->callback([a] {
     bench::TraceBenchConfig c;
@@ -64,6 +75,9 @@ void add_trace(CLI::App& bench) {
     c.scenes = a->scenes;
     c.rays = a->rays;
     c.layout = *parse_layout(a->layout);
+    c.suite = !a->no_suite;
+    c.meshes = a->meshes;
+    c.suite_tris = a->suite_tris;
     emit_bench_report(bench::run_trace_bench(c));
   });
 }

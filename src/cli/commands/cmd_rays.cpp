@@ -1,6 +1,6 @@
 // `hprt rays SCENE --kind K -n N [--seed S] -o OUT.rays`: writes a generated
-// ray set (validators/ray_sets.h). Shadow and reflection rays trace primary
-// rays through a backend (default embree).
+// ray set (validators/ray_sets.h). Shadow, reflection and diffuse rays trace
+// primary rays through a backend (default embree).
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -47,7 +47,7 @@ void run_rays(const RaysArgs& a) {
   const BackendOptions options = finish_backend_options(a.backend);
   const std::vector<Ray> rays = run_with_threads(options.threads, [&] {
     std::unique_ptr<Intersector> backend;
-    if (kind == RayKind::kShadow || kind == RayKind::kReflection) {
+    if (ray_kind_needs_backend(kind)) {
       backend = make_intersector(options.backend, options);
       backend->build(scene);
     }

@@ -51,11 +51,12 @@ void run_generate(const GenerateArgs& a) {
 void add_generate_command(CLI::App& app, CommandState& /*state*/) {
   auto args = std::make_shared<GenerateArgs>();
   CLI::App* cmd = app.add_subcommand("generate", "write a procedural mesh as binary PLY");
-  cmd->add_option("kind", args->kind, "sphere|torus|soup|slivers|terrain|plane|subdivide")
+  cmd->add_option("kind", args->kind,
+                  "sphere|bumpy|torus|soup|slivers|sheet|terrain|plane|subdivide")
       ->required()
       ->check(CLI::IsMember(generator_kinds()));
   cmd->add_option("--tris", args->tris, "target triangle count (1 .. 200M)")->capture_default_str();
-  cmd->add_option("--seed", args->seed, "random seed (soup, slivers, terrain)")
+  cmd->add_option("--seed", args->seed, "random seed (bumpy, soup, slivers, sheet, terrain)")
       ->capture_default_str();
   cmd->add_option("--from", args->from, "input mesh for subdivide (OBJ/PLY)");
   cmd->add_option("-o,--output", args->output, "output .ply file")->required();
