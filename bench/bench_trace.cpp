@@ -243,9 +243,16 @@ void add_ray_row(Table& rays, const std::string& scene_label, RayKind kind, size
 
 // Mrays/s of every ray kind at one thread count, the same ray set (seed 1)
 // through both backends.
-void time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t n_rays, int reps,
-                    BvhLayout layout, Progress& progress) {
-  run_with_threads(threads, [&] {
+// Bytes of each backend's acceleration structure (memory_bytes) per triangle.
+struct MemoryRow {
+  double bvh_bytes_per_tri = 0.0, embree_bytes_per_tri = 0.0;
+};
+
+// Mrays/s of every ray kind at one thread count, the same ray set (seed 1)
+// through both backends; returns the structures' sizes.
+MemoryRow time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t n_rays, int reps,
+                         BvhLayout layout, Progress& progress) {
+  return run_with_threads(threads, [&] {
     auto bvh = make_intersector("bvh", backend_options("bvh", threads, layout));
     auto embree = make_intersector("embree", backend_options("embree", threads, layout));
     bvh->build(in.scene);
@@ -257,7 +264,25 @@ void time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t n_ray
       add_ray_row(rays, in.label, kind, set.size(), threads, reps, t[0], t[1]);
       progress.advance();
     }
+    const double tris = double(in.scene.triangle_count());
+    return MemoryRow{double(bvh->info().memory_bytes) / tris,
+                     double(embree->info().memory_bytes) / tris};
   });
+}
+
+// Every ray kind at every thread count; one memory row (the structures do not
+// depend on the thread count).
+void time_input(Table& rays, Table& memory, const BenchInput& in, const std::vector<int>& threads,
+                size_t n_rays, int reps, BvhLayout layout, Progress& progress) {
+  MemoryRow m;
+  for (int t : threads) m = time_ray_kinds(rays, in, t, n_rays, reps, layout, progress);
+  auto row = memory.new_row();
+  row.set("scene", in.label)
+      .set("triangles", in.scene.triangle_count())
+      .set("bvh_bytes_per_tri", m.bvh_bytes_per_tri)
+      .set("embree_bytes_per_tri", m.embree_bytes_per_tri);
+  if (m.embree_bytes_per_tri > 0)
+    row.set("bvh_over_embree_bytes", m.bvh_bytes_per_tri / m.embree_bytes_per_tri);
 }
 
 void add_notes(BenchReport& report, Table& render, Table& rays,
@@ -335,6 +360,17 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
       make_render_table());
   Table& rays =
       report.add_table("rays", "Mrays/s per ray kind, bvh against embree", make_rays_table());
+  Table& memory =
+      report.add_table("memory", "Acceleration structure bytes per triangle, bvh against embree",
+                       Table({{"scene", 0},
+                              {"triangles", 0},
+                              {"bvh_bytes_per_tri", 1},
+                              {"embree_bytes_per_tri", 1},
+                              {"bvh_over_embree_bytes", 3}}));
+  memory.add_note(
+      "bytes_per_tri = the backend's memory_bytes / triangles: bvh = nodes and leaf triangle data "
+      "of the traversal layout; embree = bytes its device allocated for the committed scene "
+      "(rtcSetDeviceMemoryMonitorFunction). bvh_over_embree_bytes < 1: bvh smaller.");
 
   const size_t steps = inputs.size() * (std::size(kFocalsMm) * resolutions.size() *
                                             std::size(kBackends) * threads.size() +
@@ -345,10 +381,10 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
     const RenderGrid rr =
         time_renders(in.scene, resolutions, threads, reps, config.layout, progress);
     add_render_rows(render, in, rr, resolutions, threads);
-    for (int t : threads) time_ray_kinds(rays, in, t, n_rays, reps, config.layout, progress);
+    time_input(rays, memory, in, threads, n_rays, reps, config.layout, progress);
   }
   for (const auto& in : suite.inputs)
-    for (int t : threads) time_ray_kinds(rays, in, t, n_rays, reps, config.layout, progress);
+    time_input(rays, memory, in, threads, n_rays, reps, config.layout, progress);
   progress.finish();
   add_notes(report, render, rays, inputs, suite, o.quick);
   return report;

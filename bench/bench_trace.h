@@ -1,8 +1,9 @@
 // `hprt bench trace`: the report's Table 2 and more. Whitted render time per
 // scene, focal length (6, 13 mm) and resolution (800x600, 1920x1080) for each
 // backend at 1 thread and all threads; and Mrays/s per ray kind (primary,
-// shadow, reflection, diffuse, random) bvh against embree with the ratio, on
-// the scenes and on the large-mesh suite (bench/trace_suite.h).
+// shadow, reflection, diffuse, random) bvh against embree with the ratio, and
+// each structure's bytes per triangle, on the scenes and on the large-mesh
+// suite (bench/trace_suite.h).
 #pragma once
 
 #include <string>

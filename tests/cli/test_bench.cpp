@@ -193,6 +193,18 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
   for (const char* k : {"primary", "shadow", "reflection", "diffuse", "random"})
     EXPECT_EQ(kinds.count(k), 10u) << k;
   check_json("trace.json", "rays", rays);
+
+  // One memory row per input: both structures' bytes per triangle.
+  const Csv memory = read_csv(dir_ / "out" / "trace_memory.csv");
+  ASSERT_EQ(memory.rows.size(), expected_inputs.size());
+  for (const auto& row : memory.rows) {
+    EXPECT_EQ(expected_inputs.count(row.at("scene")), 1u) << row.at("scene");
+    EXPECT_GT(number(row.at("bvh_bytes_per_tri")), 8.0);  // at least the triangle indices
+    EXPECT_GT(number(row.at("embree_bytes_per_tri")), 8.0);
+    EXPECT_NEAR(number(row.at("bvh_over_embree_bytes")),
+                number(row.at("bvh_bytes_per_tri")) / number(row.at("embree_bytes_per_tri")), 0.01);
+  }
+  check_json("trace.json", "memory", memory);
 }
 
 TEST_F(Bench, FrontierQuickRowsErrorsAndPareto) {
