@@ -17,10 +17,10 @@
 #include <vector>
 
 #include "backends/intersector.h"
-#include "bench/frontier/bench_frontier_plot.h"
-#include "bench/frontier/bench_frontier_rays.h"
 #include "bench/bench_inputs.h"
 #include "bench/bench_timing.h"
+#include "bench/frontier/bench_frontier_plot.h"
+#include "bench/frontier/bench_frontier_rays.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "io/scene/scene_reader.h"

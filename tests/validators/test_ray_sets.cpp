@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "tests/support/embree_reference.h"
+#include "tests/support/ray_set_scene.h"
 
 namespace hprt {
 namespace {
@@ -51,17 +52,8 @@ TriangleMesh sphere_mesh(int levels, float radius, Vec3f centre) {
   return m;
 }
 
-Scene sphere_scene() {
-  Scene s;
-  s.add_mesh(sphere_mesh(4, 1.0f, Vec3f(0.0f)));  // 2048 triangles
-  s.camera.position = {0.0f, 0.0f, 4.0f};
-  s.camera.width = 64;
-  s.camera.height = 48;
-  Light light;
-  light.position = {3.0f, 4.0f, 5.0f};
-  s.lights.push_back(light);
-  return s;
-}
+// The closed unit sphere at the origin, 2048 triangles.
+Scene sphere_scene() { return test::ray_set_scene(sphere_mesh(4, 1.0f, Vec3f(0.0f))); }
 
 TEST(RaySets, EveryKindGivesNRaysDeterministically) {
   const Scene s = sphere_scene();

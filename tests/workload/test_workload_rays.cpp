@@ -12,6 +12,7 @@
 #include "core/error.h"
 #include "meshgen/mesh_generators.h"
 #include "tests/support/embree_reference.h"
+#include "tests/support/ray_set_scene.h"
 #include "workload/sampling.h"
 #include "workload/surface_hits.h"
 
@@ -22,17 +23,8 @@ using test::closest_hits;
 using test::embree_over;
 using test::same_bits;
 
-Scene sphere_scene() {
-  Scene s;
-  s.add_mesh(generate_sphere(2000));  // unit sphere at the origin, 2000 triangles
-  s.camera.position = {0.0f, 0.0f, 4.0f};
-  s.camera.width = 64;
-  s.camera.height = 48;
-  Light light;
-  light.position = {3.0f, 4.0f, 5.0f};
-  s.lights.push_back(light);
-  return s;
-}
+// The unit sphere at the origin, 2000 triangles.
+Scene sphere_scene() { return test::ray_set_scene(generate_sphere(2000)); }
 
 TEST(WorkloadRays, SameStreamSameRaysEveryKind) {
   const Scene s = sphere_scene();
