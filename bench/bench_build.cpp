@@ -91,6 +91,7 @@ constexpr BuilderKind kBuilders[] = {BuilderKind::kSweep, BuilderKind::kPresorte
                                      BuilderKind::kMorton};
 constexpr const char* kQualities[] = {"low", "medium", "high"};
 constexpr std::string_view kCommitPrefix = "embree-commit-";
+constexpr std::string_view kBackendPrefix = "backend:";
 
 // Inputs first, so a missing file fails before any timing.
 std::vector<BenchInput> load_inputs(const BuildBenchConfig& config) {
@@ -112,8 +113,8 @@ std::vector<BenchInput> load_inputs(const BuildBenchConfig& config) {
 
 // Timed calls over all meshes, for the progress bar.
 size_t count_steps(const std::vector<BenchInput>& inputs, size_t thread_count, int reps,
-                   bool repeat_given) {
-  size_t steps = 0;
+                   bool repeat_given, bool with_backend) {
+  size_t steps = with_backend ? inputs.size() * thread_count * size_t(reps) : 0;
   for (const auto& in : inputs) {
     const bool sweep_one = in.scene.triangle_count() > kSweepFewerRepsAbove && !repeat_given;
     steps += thread_count * size_t(reps) * (std::size(kBuilders) + 4 - (sweep_one ? 1 : 0)) +
@@ -131,8 +132,12 @@ struct BuildJob {
 };
 
 // The jobs of a mesh in the order they are timed: rtcBuildBVH, ours, commits.
-std::vector<BuildJob> list_jobs(size_t valid, size_t thread_count, int reps, bool repeat_given) {
+std::vector<BuildJob> list_jobs(size_t valid, size_t thread_count, int reps, bool repeat_given,
+                                const std::string& backend) {
   std::vector<BuildJob> jobs;
+  if (!backend.empty())
+    for (size_t ti = 0; ti < thread_count; ++ti)
+      jobs.push_back({std::string(kBackendPrefix) + backend, ti, reps, {}});
   for (size_t ti = 0; ti < thread_count; ++ti) jobs.push_back({"embree-buildbvh", ti, reps, {}});
   for (BuilderKind b : kBuilders) {
     const int b_reps =
@@ -177,6 +182,24 @@ std::function<double(int)> embree_commit_sample(const std::string& quality, int 
   };
 }
 
+// A backend's build() (--backend: hprt's bvh to a traversal-ready tree, or a
+// plugin); created outside the timed call; its memory once.
+std::function<double(int)> backend_build_sample(const std::string& spec, int t, Timed* res,
+                                                const Scene& scene, size_t valid) {
+  BackendOptions bo;
+  bo.backend = spec;
+  bo.threads = t;
+  return [bo, t, res, &scene, valid](int rep) {
+    return run_with_threads(t, [&] {
+      std::unique_ptr<Intersector> backend = make_intersector(bo.backend, bo);
+      const double ms = time_ms([&] { backend->build(scene); });
+      if (rep == 0)
+        res->bytes_per_tri = valid ? double(backend->info().memory_bytes) / double(valid) : 0.0;
+      return ms;
+    });
+  };
+}
+
 // make_prim_info + build_tree; tree quality and memory once, outside the
 // timed call.
 std::function<double(int)> our_build_sample(BuilderKind builder, int t, Timed* res,
@@ -214,7 +237,10 @@ void time_jobs(std::vector<BuildJob>& jobs, const std::vector<int>& threads,
   for (BuildJob& job : jobs) {
     const int t = threads[job.thread_index];
     Timed* res = &job.result;
-    if (job.builder == "embree-buildbvh")
+    if (job.builder.rfind(kBackendPrefix, 0) == 0)
+      timed.push_back({job.reps, backend_build_sample(job.builder.substr(kBackendPrefix.size()), t,
+                                                      res, scene, valid)});
+    else if (job.builder == "embree-buildbvh")
       timed.push_back({job.reps, embree_bvh_sample(embree_bvh[job.thread_index].get(), t, res)});
     else if (job.builder.rfind(kCommitPrefix, 0) == 0)
       timed.push_back({job.reps, embree_commit_sample(job.builder.substr(kCommitPrefix.size()), t,
@@ -238,15 +264,17 @@ void add_rows(Table& table, const BenchInput& in, const std::vector<BuildJob>& j
   const double embree_bvh_sah = find("embree-buildbvh", 0).sah;
   std::vector<std::string> order;
   for (BuilderKind b : kBuilders) order.emplace_back(to_string(b));
+  for (const BuildJob& j : jobs)
+    if (j.thread_index == 0 && j.builder.rfind(kBackendPrefix, 0) == 0) order.push_back(j.builder);
   for (const char* q : kQualities) order.push_back(std::string(kCommitPrefix) + q);
   order.emplace_back("embree-buildbvh");
   for (const auto& name : order) {
-    const bool embree_commit = name.rfind(kCommitPrefix, 0) == 0;
+    const bool no_sah = name.rfind(kCommitPrefix, 0) == 0 || name.rfind(kBackendPrefix, 0) == 0;
     for (size_t ti = 0; ti < threads.size(); ++ti) {
       const Timed& r = find(name, ti);
       add_row(table, in, in.scene.triangle_count(), name, threads[ti], r,
               ti == 0 ? std::nullopt : std::optional<double>(find(name, 0).t.median_ms),
-              embree_commit ? std::nullopt : std::optional<double>(embree_bvh_sah));
+              no_sah ? std::nullopt : std::optional<double>(embree_bvh_sah));
     }
   }
 }
@@ -280,9 +308,11 @@ std::string flatten_note(const BenchInput& in, const PrimInfo& prims_all, int th
 // Times one mesh into `table` and its flatten note into `report`; true when
 // sweep ran fewer repetitions than the others.
 bool bench_mesh(BenchReport& report, Table& table, const BenchInput& in,
-                const std::vector<int>& threads, int reps, bool repeat_given, Progress& progress) {
+                const std::vector<int>& threads, int reps, bool repeat_given,
+                const std::string& backend, Progress& progress) {
   const PrimInfo prims_all = make_prim_info(in.scene);
-  std::vector<BuildJob> jobs = list_jobs(prims_all.size(), threads.size(), reps, repeat_given);
+  std::vector<BuildJob> jobs =
+      list_jobs(prims_all.size(), threads.size(), reps, repeat_given, backend);
   time_jobs(jobs, threads, prims_all, in.scene, progress);
   add_rows(table, in, jobs, threads);
   report.add_note(flatten_note(in, prims_all, threads.back(), reps));
@@ -339,11 +369,18 @@ BenchReport run_build_bench(const BuildBenchConfig& config) {
   Table& table =
       report.add_table("table", "Build time per builder and thread count", make_build_table());
 
-  Progress progress("bench build", count_steps(inputs, threads.size(), reps, o.repeat.has_value()),
-                    o.progress);
+  Progress progress(
+      "bench build",
+      count_steps(inputs, threads.size(), reps, o.repeat.has_value(), !config.backend.empty()),
+      o.progress);
+  if (!config.backend.empty())
+    table.add_note(std::string(kBackendPrefix) + config.backend +
+                   ": that backend's build() from the scene to a structure it traces (for bvh: "
+                   "prim info, build, flatten into the default layout).");
   bool sweep_fewer = false;
   for (const auto& in : inputs)
-    if (bench_mesh(report, table, in, threads, reps, o.repeat.has_value(), progress))
+    if (bench_mesh(report, table, in, threads, reps, o.repeat.has_value(), config.backend,
+                   progress))
       sweep_fewer = true;
   progress.finish();
 

@@ -17,6 +17,9 @@ struct BuildBenchConfig {
   std::vector<std::string> meshes;  // files; empty = the generated default set
   bool with_generated = false;      // add the generated set to `meshes`
   bool with_10m = false;            // add a generated 10M-triangle mesh
+  // Also time this backend's build() (bvh, embree or plugin:PATH.so[:OPTIONS]),
+  // rows "backend:SPEC"; empty = none.
+  std::string backend;
 };
 
 // Runs the benchmark (progress bar on a terminal); throws InputError for bad

@@ -31,7 +31,7 @@ namespace {
 
 struct FrameConfig {
   const char* label;    // table row
-  const char* backend;  // bvh | embree
+  const char* backend;  // bvh | embree | a --backend spec (plugin:PATH.so)
   UpdateStrategy update;
   const char* quality;                                    // embree build quality
   TriangleTestKind test = TriangleTestKind::kWatertight;  // bvh
@@ -232,28 +232,33 @@ BenchReport run_frames_bench(const FramesBenchConfig& config) {
                                 std::to_string(cases.front().scene.camera.height));
   Table& table = report.add_table("frames", "Per-frame times (median over frames)", make_table());
 
-  Progress progress("bench frames", cases.size() * std::size(kConfigs) * size_t(frames),
-                    o.progress);
+  // --backend adds a row: that backend with its own update() (a plugin
+  // without one builds again).
+  std::vector<FrameConfig> configs(std::begin(kConfigs), std::end(kConfigs));
+  if (!config.backend.empty())
+    configs.push_back(
+        {config.backend.c_str(), config.backend.c_str(), UpdateStrategy::kAdaptive, "medium"});
+  Progress progress("bench frames", cases.size() * configs.size() * size_t(frames), o.progress);
   for (const AnimCase& ac : cases) {
     std::vector<CaseResult> results;
-    for (const FrameConfig& fc : kConfigs)
+    for (const FrameConfig& fc : configs)
       results.push_back(run_config(ac, fc, threads, factor, progress));
     const double embree_update = results[kEmbreeRefitRow].update.mean_ms;
     double best_embree_frame = results[kEmbreeRefitRow].frame.mean_ms;
     double best_matched[2] = {0.0, 0.0};  // fastest Embree frame, [careful()]
     for (size_t i = 0; i < results.size(); ++i) {
-      if (std::string(kConfigs[i].backend) != "embree") continue;
+      if (std::string(configs[i].backend) != "embree") continue;
       const double f = results[i].frame.mean_ms;
       best_embree_frame = std::min(best_embree_frame, f);
-      double& m = best_matched[kConfigs[i].careful() ? 1 : 0];
+      double& m = best_matched[configs[i].careful() ? 1 : 0];
       m = m > 0.0 ? std::min(m, f) : f;
     }
     for (size_t i = 0; i < results.size(); ++i) {
       const CaseResult& r = results[i];
-      const bool bvh = std::string(kConfigs[i].backend) == "bvh";
+      const bool bvh = std::string(configs[i].backend) == "bvh";
       auto row = table.new_row();
       row.set("case", ac.name)
-          .set("config", kConfigs[i].label)
+          .set("config", configs[i].label)
           .set("triangles", ac.scene.triangle_count())
           .set("threads", threads)
           .set("frames", ac.frames)
@@ -276,7 +281,7 @@ BenchReport run_frames_bench(const FramesBenchConfig& config) {
                embree_update > 0.0 ? r.update.mean_ms / embree_update : 0.0)
           .set("frame_vs_best_embree",
                best_embree_frame > 0.0 ? r.frame.mean_ms / best_embree_frame : 0.0);
-      const double matched = best_matched[kConfigs[i].careful() ? 1 : 0];
+      const double matched = best_matched[configs[i].careful() ? 1 : 0];
       row.set("frame_vs_embree_matched", matched > 0.0 ? r.frame.mean_ms / matched : 0.0);
       if (bvh) row.set("sah_cost_first", r.sah_first).set("sah_cost_last", r.sah_last);
     }

@@ -21,6 +21,8 @@ struct FramesBenchConfig {
   int frames = 0;                // frames timed after the initial build (0 = 10, --quick 3)
   size_t tris = 0;               // generated input (0 = 1,000,000, --quick 20,000)
   float adaptive_factor = 0.0f;  // bvh adaptive (0 = BackendOptions' default)
+  // Adds a row for this backend (bvh, embree or plugin:PATH.so[:OPTIONS]); empty = none.
+  std::string backend;
 };
 
 // Throws InputError for a bad input or option.

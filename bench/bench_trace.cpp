@@ -35,21 +35,27 @@ struct Resolution {
   int width, height;
 };
 
-BackendOptions backend_options(const std::string& backend, int threads, BvhLayout layout) {
-  BackendOptions bo;
-  bo.backend = backend;
+// The options of backend bi (0: the one under test, `ours`; 1: Embree) at a
+// thread count. bvh: parallel builder, watertight; embree: medium, robust off.
+BackendOptions backend_options(const BackendOptions& ours, size_t bi, int threads) {
+  BackendOptions bo = ours;
+  if (bi == 1) bo.backend = "embree";
   bo.threads = threads;
-  bo.layout = layout;
-  return bo;  // bvh: parallel builder, watertight; embree: medium, robust off
+  return bo;
 }
 
 double mrays(size_t rays, double ms) { return ms > 0 ? double(rays) / (ms * 1e3) : 0.0; }
 
 // Report Table 2's focal lengths; the backends in row and timing order.
 constexpr float kFocalsMm[] = {6.0f, 13.0f};
+// Index 0 is the backend under test (--backend; bvh by default), its
+// columns named bvh_* whichever it is.
 constexpr const char* kBackends[] = {"bvh", "embree"};
 constexpr RayKind kKinds[] = {RayKind::kPrimary, RayKind::kShadow, RayKind::kReflection,
                               RayKind::kDiffuse, RayKind::kRandom};
+
+// The render table's name of the backend under test: bvh, or its spec.
+std::string backend_label(const BackendOptions& ours) { return ours.backend; }
 
 void require_triangles(const std::vector<BenchInput>& inputs) {
   for (const auto& in : inputs)
@@ -144,7 +150,7 @@ std::vector<RenderRow> time_camera(const Scene& scene, const Camera& cam,
 // Per thread count both backends built once (build excluded), then every
 // focal length and resolution rendered.
 RenderGrid time_renders(const Scene& scene, const std::vector<Resolution>& resolutions,
-                        const std::vector<int>& threads, int reps, BvhLayout layout,
+                        const std::vector<int>& threads, int reps, const BackendOptions& ours,
                         Progress& progress) {
   RenderGrid rr(
       std::size(kFocalsMm),
@@ -154,8 +160,9 @@ RenderGrid time_renders(const Scene& scene, const std::vector<Resolution>& resol
   for (size_t ti = 0; ti < threads.size(); ++ti) {
     run_with_threads(threads[ti], [&] {
       std::vector<std::unique_ptr<Intersector>> built;
-      for (const char* backend : kBackends) {
-        built.push_back(make_intersector(backend, backend_options(backend, threads[ti], layout)));
+      for (size_t bi = 0; bi < std::size(kBackends); ++bi) {
+        const BackendOptions bo = backend_options(ours, bi, threads[ti]);
+        built.push_back(make_intersector(bo.backend, bo));
         built.back()->build(scene);
       }
       for (size_t fi = 0; fi < std::size(kFocalsMm); ++fi)
@@ -176,7 +183,8 @@ RenderGrid time_renders(const Scene& scene, const std::vector<Resolution>& resol
 }
 
 void add_render_rows(Table& render, const BenchInput& in, const RenderGrid& rr,
-                     const std::vector<Resolution>& resolutions, const std::vector<int>& threads) {
+                     const std::vector<Resolution>& resolutions, const std::vector<int>& threads,
+                     const BackendOptions& ours) {
   for (size_t fi = 0; fi < std::size(kFocalsMm); ++fi)
     for (size_t ri = 0; ri < resolutions.size(); ++ri)
       for (size_t bi = 0; bi < std::size(kBackends); ++bi)
@@ -188,7 +196,7 @@ void add_render_rows(Table& render, const BenchInput& in, const RenderGrid& rr,
               .set("focal_mm", double(kFocalsMm[fi]))
               .set("resolution", std::to_string(resolutions[ri].width) + "x" +
                                      std::to_string(resolutions[ri].height))
-              .set("backend", kBackends[bi])
+              .set("backend", bi == 0 ? backend_label(ours) : kBackends[bi])
               .set("threads", threads[ti])
               .set("reps", x.t.repetitions)
               .set("render_ms", x.t.median_ms)
@@ -251,10 +259,12 @@ struct MemoryRow {
 // Mrays/s of every ray kind at one thread count, the same ray set (seed 1)
 // through both backends; returns the structures' sizes.
 MemoryRow time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t n_rays, int reps,
-                         BvhLayout layout, Progress& progress) {
+                         const BackendOptions& ours, Progress& progress) {
   return run_with_threads(threads, [&] {
-    auto bvh = make_intersector("bvh", backend_options("bvh", threads, layout));
-    auto embree = make_intersector("embree", backend_options("embree", threads, layout));
+    const BackendOptions bo = backend_options(ours, 0, threads);
+    const BackendOptions eo = backend_options(ours, 1, threads);
+    auto bvh = make_intersector(bo.backend, bo);
+    auto embree = make_intersector(eo.backend, eo);
     bvh->build(in.scene);
     embree->build(in.scene);
     for (RayKind kind : kKinds) {
@@ -273,9 +283,9 @@ MemoryRow time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t 
 // Every ray kind at every thread count; one memory row (the structures do not
 // depend on the thread count).
 void time_input(Table& rays, Table& memory, const BenchInput& in, const std::vector<int>& threads,
-                size_t n_rays, int reps, BvhLayout layout, Progress& progress) {
+                size_t n_rays, int reps, const BackendOptions& ours, Progress& progress) {
   MemoryRow m;
-  for (int t : threads) m = time_ray_kinds(rays, in, t, n_rays, reps, layout, progress);
+  for (int t : threads) m = time_ray_kinds(rays, in, t, n_rays, reps, ours, progress);
   auto row = memory.new_row();
   row.set("scene", in.label)
       .set("triangles", in.scene.triangle_count())
@@ -352,9 +362,16 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
   report.set_param("threads", threads);
   report.set_param("repetitions", reps);
   report.set_param("rays_per_kind", n_rays);
-  report.set_param("backends", "bvh = parallel builder, 32 bins, leaves <= 4, watertight test, " +
-                                   std::string(to_string(config.layout)) +
-                                   " layout; embree = rtcCommitScene MEDIUM, robust off");
+  BackendOptions ours;
+  ours.backend = config.backend;
+  ours.layout = config.layout;
+  report.set_param("backend", config.backend);
+  report.set_param(
+      "backends",
+      (ours.backend == "bvh" ? "bvh = parallel builder, 32 bins, leaves <= 4, watertight test, " +
+                                   std::string(to_string(config.layout)) + " layout"
+                             : "bvh columns = " + config.backend) +
+          "; embree = rtcCommitScene MEDIUM, robust off");
   Table& render = report.add_table(
       "render", "Whitted render time per scene, focal length, resolution, backend, threads",
       make_render_table());
@@ -378,13 +395,12 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
                        suite.inputs.size() * std::size(kKinds) * threads.size();
   Progress progress("bench trace", steps, o.progress);
   for (const auto& in : inputs) {
-    const RenderGrid rr =
-        time_renders(in.scene, resolutions, threads, reps, config.layout, progress);
-    add_render_rows(render, in, rr, resolutions, threads);
-    time_input(rays, memory, in, threads, n_rays, reps, config.layout, progress);
+    const RenderGrid rr = time_renders(in.scene, resolutions, threads, reps, ours, progress);
+    add_render_rows(render, in, rr, resolutions, threads, ours);
+    time_input(rays, memory, in, threads, n_rays, reps, ours, progress);
   }
   for (const auto& in : suite.inputs)
-    time_input(rays, memory, in, threads, n_rays, reps, config.layout, progress);
+    time_input(rays, memory, in, threads, n_rays, reps, ours, progress);
   progress.finish();
   add_notes(report, render, rays, inputs, suite, o.quick);
   return report;

@@ -20,9 +20,12 @@ struct TraceBenchConfig {
   std::vector<std::string> scenes;      // scene JSON or mesh files; empty = the default set
   size_t rays = 0;                      // rays per kind; 0 = 1,000,000 (quick: 20,000)
   BvhLayout layout = BvhLayout::kBvh8;  // the bvh backend's traversal layout
-  bool suite = true;                    // also the large-mesh suite (ray kinds only)
-  std::vector<std::string> meshes;      // the suite's mesh files; empty = default_suite_meshes()
-  size_t suite_tris = 0;                // generated suite meshes; 0 = 1,000,000 (quick: 20,000)
+  // The backend timed against Embree (its columns are named bvh_*): bvh,
+  // embree, or plugin:PATH.so[:OPTIONS].
+  std::string backend = "bvh";
+  bool suite = true;                // also the large-mesh suite (ray kinds only)
+  std::vector<std::string> meshes;  // the suite's mesh files; empty = default_suite_meshes()
+  size_t suite_tris = 0;            // generated suite meshes; 0 = 1,000,000 (quick: 20,000)
 };
 
 // The default scenes: data/scenes/single_13mm.json (one model) and

@@ -2,6 +2,8 @@
 // classified in parallel (oneTBB, caller's arena), counts summed afterwards.
 #include "validators/ray_diff.h"
 
+#include "core/hit_check.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
@@ -230,11 +232,25 @@ RayDiffResult diff_hits(const Scene& scene, std::span<const Ray> rays, std::span
   r.brute_force = scene.triangle_count() <= o.brute_force_limit;
   r.verdicts.resize(rays.size());
   std::vector<double> agree_err(rays.size(), 0.0), dispute_err(rays.size(), 0.0);
+  std::vector<uint8_t> malformed_b(rays.size(), 0), malformed_e(rays.size(), 0);
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, rays.size(), 16), [&](const tbb::blocked_range<size_t>& range) {
         for (size_t i = range.begin(); i != range.end(); ++i) {
           const Hit& b = bvh[i];
           const Hit& e = embree[i];
+          // A malformed answer is wrong whatever the arbiter says, and its
+          // ids are not used (they may name no triangle).
+          const bool bbad = !hit_well_formed(scene, rays[i], b);
+          const bool ebad = !hit_well_formed(scene, rays[i], e);
+          if (bbad || ebad) {
+            malformed_b[i] = bbad;
+            malformed_e[i] = ebad;
+            const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], bbad ? nullptr : &b,
+                                                        ebad ? nullptr : &e, r.brute_force, o);
+            r.verdicts[i] = verdict(!bbad && closest_hit_right(ans, rays[i], b, o),
+                                    !ebad && closest_hit_right(ans, rays[i], e, o));
+            continue;
+          }
           if (!b.hit() && !e.hit()) {
             r.verdicts[i] = RayVerdict::kAgree;
             continue;
@@ -256,6 +272,8 @@ RayDiffResult diff_hits(const Scene& scene, std::span<const Ray> rays, std::span
       });
   r.max_rel_t_error = max_of(agree_err);
   r.max_rel_t_error_arbiter = max_of(dispute_err);
+  r.bvh_malformed = size_t(std::count(malformed_b.begin(), malformed_b.end(), uint8_t(1)));
+  r.embree_malformed = size_t(std::count(malformed_e.begin(), malformed_e.end(), uint8_t(1)));
   tally(r);
   return r;
 }
@@ -269,8 +287,12 @@ RayDiffResult diff_occlusion(const Scene& scene, std::span<const Ray> rays,
   r.brute_force = scene.triangle_count() <= o.brute_force_limit;
   r.verdicts.assign(rays.size(), RayVerdict::kAgree);
   std::vector<size_t> disputed;
-  for (size_t i = 0; i < rays.size(); ++i)
-    if ((bvh[i] != 0) != (embree[i] != 0)) disputed.push_back(i);
+  for (size_t i = 0; i < rays.size(); ++i) {
+    const bool bad = !occlusion_well_formed(bvh[i]) || !occlusion_well_formed(embree[i]);
+    r.bvh_malformed += !occlusion_well_formed(bvh[i]);
+    r.embree_malformed += !occlusion_well_formed(embree[i]);
+    if (bad || (bvh[i] != 0) != (embree[i] != 0)) disputed.push_back(i);
+  }
   // Closest hits of the disputed rays as candidates (needed without brute force).
   std::vector<Ray> sub(disputed.size());
   for (size_t k = 0; k < disputed.size(); ++k) sub[k] = rays[disputed[k]];
@@ -279,9 +301,13 @@ RayDiffResult diff_occlusion(const Scene& scene, std::span<const Ray> rays,
   if (embree_backend) embree_backend->intersect(sub, he);
   tbb::parallel_for(size_t(0), disputed.size(), [&](size_t k) {
     const size_t i = disputed[k];
-    const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], &hb[k], &he[k], r.brute_force, o);
-    r.verdicts[i] = verdict(occlusion_right(ans, rays[i], bvh[i] != 0, o),
-                            occlusion_right(ans, rays[i], embree[i] != 0, o));
+    const bool bok = hit_well_formed(scene, rays[i], hb[k]);
+    const bool eok = hit_well_formed(scene, rays[i], he[k]);
+    const ArbiterAnswer ans = arbitrate_dispute(scene, rays[i], bok ? &hb[k] : nullptr,
+                                                eok ? &he[k] : nullptr, r.brute_force, o);
+    r.verdicts[i] = verdict(
+        occlusion_well_formed(bvh[i]) && occlusion_right(ans, rays[i], bvh[i] != 0, o),
+        occlusion_well_formed(embree[i]) && occlusion_right(ans, rays[i], embree[i] != 0, o));
   });
   tally(r);
   return r;

@@ -1,4 +1,5 @@
-// The ray diff: the same rays through the bvh and embree backends, each ray
+// The ray diff: the same rays through two backends (the one under test,
+// called bvh here, and the reference, called embree, whichever they are), each ray
 // classified as agree, tie (different primitive at the same t, confirmed by
 // the arbiter) or mismatch, and every mismatch settled by the exact arbiter
 // (validators/arbiter.h) as bvh right, embree right, both right or both wrong.
@@ -42,6 +43,9 @@ struct RayDiffResult {
   double max_rel_t_error = 0.0;          // agreeing rays, bvh vs embree
   double max_rel_t_error_arbiter = 0.0;  // disputes where bvh is right, bvh vs exact t
   bool brute_force = false;              // arbitrated over the whole scene
+  // Answers failing core/hit_check.h (counted among the wrong ones).
+  size_t bvh_malformed = 0;
+  size_t embree_malformed = 0;
   std::vector<size_t> mismatch_indices;  // increasing
   std::vector<RayVerdict> verdicts;      // one per ray
   size_t bvh_wrong() const { return embree_right + both_wrong; }

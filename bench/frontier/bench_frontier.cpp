@@ -39,7 +39,8 @@ struct Config {
   bool is_reference = false;
 };
 
-std::vector<Config> make_configs(int threads) {
+// hprt's configurations, Embree's two, and `backend` (a --backend spec) when given.
+std::vector<Config> make_configs(int threads, const std::string& backend) {
   std::vector<Config> out;
   auto bvh = [&](BuilderKind b, int bins, int leaf, TriangleTestKind t,
                  BvhLayout layout = BvhLayout::kBvh8) {
@@ -80,6 +81,13 @@ std::vector<Config> make_configs(int threads) {
     c.options.embree_quality = "medium";
     c.options.embree_robust = robust;
     c.name = std::string("embree/medium/robust-") + (robust ? "on" : "off");
+    out.push_back(c);
+  }
+  if (!backend.empty()) {
+    Config c;
+    c.options.backend = backend;
+    c.options.threads = threads;
+    c.name = backend;
     out.push_back(c);
   }
   return out;
@@ -311,7 +319,7 @@ BenchReport run_frontier_bench(const FrontierBenchConfig& config) {
                                      std::to_string(sz.trace_rays) + " random, closest hit");
   report.set_param("image", std::to_string(sz.img_w) + "x" + std::to_string(sz.img_h));
 
-  const std::vector<Config> configs = make_configs(sz.threads);
+  const std::vector<Config> configs = make_configs(sz.threads, config.backend);
   Progress progress("bench frontier", configs.size() + 1, o.progress);
   const FrontierRays rays = make_frontier_rays(scene, far, sz.threads, sz.hard_rays, sz.trace_rays);
   progress.advance();

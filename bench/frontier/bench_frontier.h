@@ -17,6 +17,7 @@ struct FrontierBenchConfig {
   std::string mesh;       // a closed mesh file works best (probes); empty = generated sphere
   size_t hard_rays = 0;   // rays per hard-case set; 0 = 2,000 (quick: 200)
   size_t trace_rays = 0;  // primary + random rays timed; 0 = 2 x 250,000 (quick: 2 x 10,000)
+  std::string backend;  // adds this backend (bvh, embree or plugin:PATH.so[:OPTIONS]); empty = none
 };
 
 BenchReport run_frontier_bench(const FrontierBenchConfig& config);

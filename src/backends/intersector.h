@@ -25,7 +25,7 @@ namespace hprt {
 enum class UpdateStrategy { kRebuild, kRefit, kAdaptive };
 
 struct BackendOptions {
-  std::string backend = "bvh";  // bvh | embree
+  std::string backend = "bvh";  // bvh | embree | plugin:PATH[:OPTIONS] (backend_spec.h)
   int threads = 0;              // 0 = all hardware threads
   // bvh backend
   BuildOptions build;
@@ -50,6 +50,8 @@ struct BuildInfo {
   bool has_tree_stats = false;
   TreeStats stats;
   bool rebuilt = true;  // update(): whether the last update rebuilt (vs refit)
+  // Plugins: answers so far that failed the checks of core/hit_check.h.
+  uint64_t malformed_answers = 0;
 };
 
 class Intersector {
@@ -62,7 +64,9 @@ class Intersector {
   virtual BuildInfo info() const = 0;
 };
 
-// Throws InputError naming the backend when it is unknown.
+// `backend`: bvh, embree or plugin:PATH[:OPTIONS] (backends/backend_spec.h).
+// Throws OptionError("backend", ...) when it is unknown, InputError naming
+// the plugin file when a plugin cannot be loaded or created.
 std::unique_ptr<Intersector> make_intersector(std::string_view backend,
                                               const BackendOptions& options);
 

@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "backends/backend_spec.h"
 #include "bvh/input/build_options.h"
 #include "cli/commands.h"
 
@@ -19,6 +20,12 @@ const CLI::Validator kFinite(
     "FINITE");
 }  // namespace
 
+const CLI::Validator& backend_spec_validator() {
+  static const CLI::Validator v([](std::string& s) { return backend_spec_problem(s); },
+                                "bvh|embree|plugin:PATH.so[:OPTIONS]");
+  return v;
+}
+
 void add_threads_option(CLI::App& cmd, int& threads) {
   cmd.add_option("--threads", threads, "worker threads (0 = all hardware threads)")
       ->check(CLI::Range(0, 4096));
@@ -26,8 +33,10 @@ void add_threads_option(CLI::App& cmd, int& threads) {
 
 void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend) {
   if (with_backend)
-    cmd.add_option("--backend", o.backend, "intersector backend")
-        ->check(CLI::IsMember({"bvh", "embree"}))
+    cmd.add_option("--backend", o.backend,
+                   "intersector backend: bvh, embree, or plugin:PATH.so[:OPTIONS] (a library "
+                   "implementing <hprt/plugin.h>; OPTIONS go to its create())")
+        ->check(backend_spec_validator())
         ->capture_default_str();
   add_threads_option(cmd, o.options.threads);
   cmd.add_option("--builder", o.builder,

@@ -39,6 +39,9 @@ struct BackendCliOptions {
 void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend = true);
 BackendOptions finish_backend_options(const BackendCliOptions& o);
 
+// Checks a --backend/--reference value: bvh, embree or plugin:PATH.so[:OPTIONS].
+const CLI::Validator& backend_spec_validator();
+
 // --threads alone (for commands without a backend choice).
 void add_threads_option(CLI::App& cmd, int& threads);
 

@@ -18,6 +18,7 @@ struct BuildCmd {
   std::vector<std::string> meshes;
   bool with_generated = false;
   bool with_10m = false;
+  std::string backend;
 };
 
 void add_build(CLI::App& bench) {
@@ -29,6 +30,10 @@ void add_build(CLI::App& bench) {
                   "report's sizes (132,267 / 871,306 / 1,087,474 triangles)");
   cmd->add_flag("--generated", a->with_generated, "also run the generated meshes with MESH files");
   cmd->add_flag("--10m", a->with_10m, "also run a generated 10M-triangle mesh (slow)");
+  cmd->add_option("--backend", a->backend,
+                  "also time this backend's build() (rows backend:SPEC): bvh, embree or "
+                  "plugin:PATH.so[:OPTIONS]")
+      ->check(backend_spec_validator());
   add_bench_common_options(*cmd, a->common);
   cmd->callback([a] {
     bench::BuildBenchConfig c;
@@ -36,6 +41,7 @@ void add_build(CLI::App& bench) {
     c.meshes = a->meshes;
     c.with_generated = a->with_generated;
     c.with_10m = a->with_10m;
+    c.backend = a->backend;
     emit_bench_report(bench::run_build_bench(c));
   });
 }
@@ -45,6 +51,7 @@ struct TraceCmd {
   std::vector<std::string> scenes;
   size_t rays = 0;
   std::string layout = "bvh8";
+  std::string backend = "bvh";
   std::vector<std::string> meshes;
   bool no_suite = false;
   size_t suite_tris = 0;
@@ -68,6 +75,11 @@ void add_trace(CLI::App& bench) {
                   "triangles of the suite's generated bumpy sphere, soup and sliver sheet (default "
                   "1,000,000; --quick 20,000)");
   cmd->add_flag("--no-suite", a->no_suite, "skip the large-mesh suite");
+  cmd->add_option("--backend", a->backend,
+                  "the backend timed against Embree (bvh columns): bvh, embree or "
+                  "plugin:PATH.so[:OPTIONS]")
+      ->check(backend_spec_validator())
+      ->capture_default_str();
   add_bench_common_options(*cmd, a->common);
   cmd->callback([a] {
     bench::TraceBenchConfig c;
@@ -75,6 +87,7 @@ void add_trace(CLI::App& bench) {
     c.scenes = a->scenes;
     c.rays = a->rays;
     c.layout = *parse_layout(a->layout);
+    c.backend = a->backend;
     c.suite = !a->no_suite;
     c.meshes = a->meshes;
     c.suite_tris = a->suite_tris;
@@ -87,6 +100,7 @@ struct FrontierCmd {
   std::string mesh;
   size_t hard_rays = 0;
   size_t trace_rays = 0;
+  std::string backend;
 };
 
 void add_frontier(CLI::App& bench) {
@@ -100,6 +114,9 @@ void add_frontier(CLI::App& bench) {
                   "rays per hard-case set (default 2,000; --quick 200)");
   cmd->add_option("--trace-rays", a->trace_rays,
                   "primary and random rays each for the speed (default 250,000; --quick 10,000)");
+  cmd->add_option("--backend", a->backend,
+                  "add this backend's row (bvh, embree or plugin:PATH.so[:OPTIONS])")
+      ->check(backend_spec_validator());
   add_bench_common_options(*cmd, a->common);
   cmd->callback([a] {
     bench::FrontierBenchConfig c;
@@ -107,6 +124,7 @@ void add_frontier(CLI::App& bench) {
     c.mesh = a->mesh;
     c.hard_rays = a->hard_rays;
     c.trace_rays = a->trace_rays;
+    c.backend = a->backend;
     emit_bench_report(bench::run_frontier_bench(c));
   });
 }

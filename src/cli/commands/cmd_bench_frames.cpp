@@ -17,6 +17,7 @@ struct FramesCmd {
   int frames = 0;
   size_t tris = 0;
   float adaptive_factor = 0.0f;
+  std::string backend;
 };
 
 }  // namespace
@@ -41,6 +42,10 @@ void add_bench_frames_command(CLI::App& bench, CommandState& /*state*/) {
                   "bvh adaptive: rebuild when the SAH cost exceeds this x the cost at the last "
                   "rebuild (default 1.3)")
       ->check(CLI::Range(1.0f, 100.0f));
+  cmd->add_option("--backend", a->backend,
+                  "add a row for this backend (bvh, embree or plugin:PATH.so[:OPTIONS]) with its "
+                  "own update()")
+      ->check(backend_spec_validator());
   add_bench_common_options(*cmd, a->common);
   cmd->callback([a] {
     bench::FramesBenchConfig c;
@@ -49,6 +54,7 @@ void add_bench_frames_command(CLI::App& bench, CommandState& /*state*/) {
     c.frames = a->frames;
     c.tris = a->tris;
     c.adaptive_factor = a->adaptive_factor;
+    c.backend = a->backend;
     emit_bench_report(bench::run_frames_bench(c));
   });
 }

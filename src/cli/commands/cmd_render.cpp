@@ -1,4 +1,4 @@
-// `hprt render SCENE [--backend bvh|embree] [BACKEND OPTIONS] [--width W]
+// `hprt render SCENE [--backend bvh|embree|plugin:PATH.so] [BACKEND OPTIONS] [--width W]
 // [--height H] [--focal MM] [--threads N] [--frames A:B] -o OUT.png|OUT_%04d.png
 // [--json]`: builds a backend over the scene, renders it Whitted style
 // (src/render) and writes the image; a one-line summary goes to stderr, --json
@@ -27,6 +27,7 @@
 #include "io/image/image_io.h"
 #include "io/scene/scene_reader.h"
 #include "render/animation_loop.h"
+#include "render/camera_override.h"
 #include "render/progress.h"
 #include "render/tile_scheduler.h"
 #include "render/whitted.h"
@@ -55,17 +56,8 @@ struct FrameReport {
   std::string output;
 };
 
-// --width/--height/--focal override the scene camera. One of width/height
-// alone keeps the scene's aspect ratio.
 Camera render_camera(const Camera& scene_camera, const RenderArgs& a) {
-  Camera c = scene_camera;
-  const double aspect = double(scene_camera.height) / double(scene_camera.width);
-  if (a.width > 0) c.width = a.width;
-  if (a.height > 0) c.height = a.height;
-  if (a.width > 0 && a.height == 0) c.height = std::max(1, int(std::lround(a.width * aspect)));
-  if (a.height > 0 && a.width == 0) c.width = std::max(1, int(std::lround(a.height / aspect)));
-  if (a.focal_mm > 0.0f) c.focal_length_mm = a.focal_mm;
-  return c;
+  return override_camera(scene_camera, a.width, a.height, a.focal_mm);
 }
 
 // Renders one frame with an already built backend and writes it.

@@ -1,4 +1,4 @@
-// `hprt trace SCENE --rays IN.rays [--backend bvh|embree] [--occluded] -o OUT`:
+// `hprt trace SCENE --rays IN.rays [--backend bvh|embree|plugin:PATH.so] [--occluded] -o OUT`:
 // builds a backend, traces a .rays file (closest hit or occlusion) and writes
 // .hits or one byte per ray; a summary goes to stderr, --json to stdout.
 #include <nlohmann/json.hpp>
@@ -55,6 +55,7 @@ void run_trace(const TraceArgs& a) {
       backend->intersect(rays, hits);
     }
     trace_ms = ms_since(start);
+    info.malformed_answers = backend->info().malformed_answers;
   });
 
   size_t hit_count = 0;
@@ -73,9 +74,16 @@ void run_trace(const TraceArgs& a) {
                info.name.c_str(), scene.triangle_count(), rays.size(),
                a.occluded ? "occluded" : "closest hit", hit_count, a.occluded ? "occluded" : "hits",
                info.build_ms, trace_ms, mrays, threads, a.output.c_str());
+  if (info.malformed_answers > 0)
+    std::fprintf(stderr,
+                 "hprt trace: warning: %s gave %llu malformed answers (t outside [tnear, tfar], "
+                 "ids out of range, u/v outside the triangle, or a byte not 0/1); written as "
+                 "misses with t = NaN\n",
+                 info.name.c_str(), static_cast<unsigned long long>(info.malformed_answers));
   if (a.json) {
     nlohmann::json j;
     j["backend"] = options.backend;
+    j["malformed_answers"] = info.malformed_answers;
     j["backend_config"] = info.name;
     j["query"] = a.occluded ? "occluded" : "closest";
     j["triangles"] = scene.triangle_count();

@@ -1,8 +1,9 @@
 // `hprt validate rays SCENE [--rays IN.rays | --kind K -n N [--seed S]]
-// [BVH OPTIONS] [--occluded] [--threads N] [--mismatches OUT.rays] [--json]`:
-// traces the rays through the bvh and embree backends, settles every
-// mismatch with the exact arbiter (validators/ray_diff) and writes the
-// mismatching rays for replay. Exit 1 when bvh is wrong on some ray.
+// [--backend A] [--reference B] [BACKEND OPTIONS] [--occluded] [--threads N]
+// [--mismatches OUT.rays] [--json]`: traces the rays through backend A
+// (default bvh) and reference B (default embree), settles every mismatch
+// with the exact arbiter (validators/ray_diff) and writes the mismatching
+// rays for replay. Exit 1 when A is wrong on some ray.
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -21,6 +22,7 @@
 #include "io/rays/ray_file.h"
 #include "io/scene/scene_reader.h"
 #include "validators/ray_diff.h"
+#include "validators/ray_diff_summary.h"
 #include "validators/ray_sets.h"
 
 namespace hprt::cli {
@@ -37,33 +39,10 @@ struct ValidateRaysArgs {
   bool occluded = false;
   bool json = false;
   std::string mismatches = "mismatches.rays";
+  std::string reference = "embree";
   double brute_force_limit = 4e6;
   BackendCliOptions backend;
 };
-
-void print_table(const ValidateRaysArgs& a, const RayDiffResult& r, const std::string& bvh_name,
-                 const std::string& embree_name, const std::string& source,
-                 const std::string& written) {
-  auto row = [&](const char* name, size_t v) {
-    std::fprintf(stderr, "  %-14s %12zu  %7.3f%%\n", name, v,
-                 r.rays ? 100.0 * double(v) / double(r.rays) : 0.0);
-  };
-  std::fprintf(stderr, "hprt validate rays: %s vs %s, %s, %zu rays (%s)%s\n", bvh_name.c_str(),
-               embree_name.c_str(), a.occluded ? "occluded" : "closest hit", r.rays, source.c_str(),
-               r.brute_force ? ", arbiter over all triangles" : "");
-  row("agree", r.agree);
-  row("ties", r.ties);
-  row("mismatches", r.mismatches);
-  row(" bvh right", r.bvh_right);
-  row(" embree right", r.embree_right);
-  row(" both right", r.both_right);
-  row(" both wrong", r.both_wrong);
-  std::fprintf(stderr, "  max rel t error: %.3g (agreeing), %.3g (bvh vs arbiter)\n",
-               r.max_rel_t_error, r.max_rel_t_error_arbiter);
-  std::fprintf(stderr, "  bvh wrong on %zu rays: %s%s%s\n", r.bvh_wrong(),
-               r.bvh_wrong() ? "FAIL" : "pass", written.empty() ? "" : "; mismatches -> ",
-               written.c_str());
-}
 
 int run_validate_rays(const ValidateRaysArgs& a) {
   if (a.rays.empty() == a.kind.empty())
@@ -77,10 +56,7 @@ int run_validate_rays(const ValidateRaysArgs& a) {
   }
   if (!(a.brute_force_limit >= 0.0)) throw InputError("--brute-force-limit", "must be >= 0");
   check_output_directory(a.mismatches);
-  BackendOptions bvh_opts = finish_backend_options(a.backend);
-  bvh_opts.backend = "bvh";
-  BackendOptions embree_opts = bvh_opts;
-  embree_opts.backend = "embree";
+  BackendOptions options = finish_backend_options(a.backend);
   const Scene scene = load_scene(a.scene);
   std::vector<Ray> rays;
   if (!kind) rays = read_rays(a.rays);
@@ -88,29 +64,38 @@ int run_validate_rays(const ValidateRaysArgs& a) {
   RayDiffOptions diff_opts;
   diff_opts.brute_force_limit = size_t(a.brute_force_limit);
   RayDiffResult r;
-  std::string bvh_name, embree_name;
-  run_with_threads(bvh_opts.threads, [&] {
-    std::unique_ptr<Intersector> embree = make_intersector("embree", embree_opts);
-    embree->build(scene);
-    std::unique_ptr<Intersector> bvh = make_intersector("bvh", bvh_opts);
-    bvh->build(scene);
-    if (kind) rays = make_rays(scene, *kind, size_t(a.n), a.seed, embree.get());
-    r = run_ray_diff(scene, rays, *bvh, *embree, a.occluded, diff_opts);
-    bvh_name = bvh->info().name;
-    embree_name = embree->info().name;
+  RayDiffLabels labels;
+  labels.occluded = a.occluded;
+  run_with_threads(options.threads, [&] {
+    std::unique_ptr<Intersector> reference = make_intersector(a.reference, options);
+    reference->build(scene);
+    std::unique_ptr<Intersector> backend = make_intersector(options.backend, options);
+    backend->build(scene);
+    if (kind) {
+      // Ray sets depend on the seed only: surface points come from Embree
+      // whichever backends are compared.
+      std::unique_ptr<Intersector> embree;
+      if (ray_kind_needs_backend(*kind) && a.reference != "embree") {
+        embree = make_intersector("embree", options);
+        embree->build(scene);
+      }
+      rays = make_rays(scene, *kind, size_t(a.n), a.seed, embree ? embree.get() : reference.get());
+    }
+    r = run_ray_diff(scene, rays, *backend, *reference, a.occluded, diff_opts);
+    labels.backend = backend->info().name;
+    labels.reference = reference->info().name;
   });
 
-  std::string written;
   if (r.mismatches > 0) {
     std::vector<Ray> bad;
     bad.reserve(r.mismatches);
     for (size_t i : r.mismatch_indices) bad.push_back(rays[i]);
     write_rays(a.mismatches, bad);
-    written = a.mismatches;
+    labels.mismatches = a.mismatches;
   }
-  const std::string source =
+  labels.source =
       kind ? std::string(to_string(*kind)) + ", seed " + std::to_string(a.seed) : a.rays;
-  print_table(a, r, bvh_name, embree_name, source, written);
+  std::fputs(ray_diff_summary(r, labels).c_str(), stderr);
   if (a.json) {
     nlohmann::json j;
     j["rays"] = r.rays;
@@ -125,13 +110,18 @@ int run_validate_rays(const ValidateRaysArgs& a) {
     j["max_rel_t_error"] = r.max_rel_t_error;
     j["max_rel_t_error_arbiter"] = r.max_rel_t_error_arbiter;
     j["query"] = a.occluded ? "occluded" : "closest";
-    j["bvh_config"] = bvh_name;
-    j["embree_config"] = embree_name;
+    j["bvh_config"] = labels.backend;
+    j["embree_config"] = labels.reference;
+    j["backend_config"] = labels.backend;
+    j["reference_config"] = labels.reference;
+    j["bvh_malformed"] = r.bvh_malformed;
+    j["embree_malformed"] = r.embree_malformed;
     j["kind"] = kind ? nlohmann::json(std::string(to_string(*kind))) : nlohmann::json(nullptr);
     j["rays_file"] = kind ? nlohmann::json(nullptr) : nlohmann::json(a.rays);
     j["triangles"] = scene.triangle_count();
     j["brute_force"] = r.brute_force;
-    j["mismatches_file"] = written.empty() ? nlohmann::json(nullptr) : nlohmann::json(written);
+    j["mismatches_file"] =
+        labels.mismatches.empty() ? nlohmann::json(nullptr) : nlohmann::json(labels.mismatches);
     j["pass"] = r.bvh_wrong() == 0;
     std::cout << j.dump() << std::endl;
   }
@@ -143,7 +133,9 @@ int run_validate_rays(const ValidateRaysArgs& a) {
 void add_validate_rays_command(CLI::App& validate, CommandState& state) {
   auto args = std::make_shared<ValidateRaysArgs>();
   CLI::App* cmd = validate.add_subcommand(
-      "rays", "trace rays through bvh and embree; settle mismatches with an exact arbiter");
+      "rays",
+      "trace rays through two backends (default bvh and embree); settle mismatches with an "
+      "exact arbiter");
   cmd->add_option("scene", args->scene, "scene JSON or mesh file (OBJ/PLY)")->required();
   cmd->add_option("--rays", args->rays, "input .rays file");
   cmd->add_option("--kind", args->kind, "generate rays of this kind instead")
@@ -158,7 +150,12 @@ void add_validate_rays_command(CLI::App& validate, CommandState& state) {
                   "triangles (else only the backends' answers)")
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
-  add_backend_options(*cmd, args->backend, /*with_backend=*/false);
+  add_backend_options(*cmd, args->backend);
+  cmd->add_option(
+         "--reference", args->reference,
+         "the backend --backend is diffed against: bvh, embree or plugin:PATH.so[:OPTIONS]")
+      ->check(backend_spec_validator())
+      ->capture_default_str();
   cmd->callback([args, &state] { state.exit_code = run_validate_rays(*args); });
 }
 

@@ -33,7 +33,8 @@ LoadedCodec load_codec() {
     candidates.emplace_back(env);
   } else if (const std::filesystem::path dir = own_directory(); !dir.empty()) {
     candidates.push_back(dir / HPRT_IMAGE_MODULE_NAME);
-    candidates.push_back(dir / ".." / "lib" / "hprt" / HPRT_IMAGE_MODULE_NAME);
+    candidates.push_back(dir / "hprt" / HPRT_IMAGE_MODULE_NAME);  // beside an installed libhprt.so
+    candidates.push_back(dir / ".." / HPRT_IMAGE_MODULE_LIBDIR / "hprt" / HPRT_IMAGE_MODULE_NAME);
     candidates.emplace_back(HPRT_IMAGE_MODULE_BUILD_PATH);
   } else {
     candidates.emplace_back(HPRT_IMAGE_MODULE_BUILD_PATH);

@@ -1,0 +1,197 @@
+// hprt's public C++ API: scenes from arrays or files, any backend by name
+// (hprt's BVH, Embree, or a plugin), ray queries over spans, an exact diff of
+// two backends, and Whitted renders into a buffer. Link hprt::hprt:
+//
+//   find_package(hprt 0.1 REQUIRED)
+//   target_link_libraries(app PRIVATE hprt::hprt)
+//
+// Everything here is in namespace hprt::api and declared in this header (and
+// <hprt/plugin.h>, whose ray and hit records it uses); nothing else of hprt's
+// source is part of the API. C++20.
+//
+// Errors: every function throws hprt::api::Error carrying the one-line
+// message the command line prints ("path: problem" for files, "key: problem"
+// for options), std::invalid_argument for a programming error (a span of
+// the wrong size, a query before build()), and std::bad_alloc when memory
+// runs out.
+//
+// Threads: a Backend built with the option threads=N runs its build and
+// queries in a pool of N threads (0 = every hardware thread); without it,
+// in the caller's oneTBB task arena (by default every hardware thread; inside
+// a tbb::task_arena, that arena). Queries are const and may run
+// concurrently on one built backend; build() and update() may not.
+#pragma once
+
+#include <hprt/plugin.h>
+
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#if defined(_WIN32)
+#define HPRT_API __declspec(dllimport)
+#else
+#define HPRT_API __attribute__((visibility("default")))
+#endif
+
+namespace hprt::api {
+
+// The library's version, e.g. "0.1.0".
+HPRT_API const char* version();
+
+class HPRT_API Error : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+// A ray: origin, tnear, direction (any nonzero length), tfar. A hit: t, the
+// barycentrics u, v of vertices 1 and 2, the mesh (geom_id, in order of
+// add_mesh) and the triangle in it (prim_id). A miss has t = +inf and both
+// ids kInvalidId. Semantics are Embree 3's: closest hit with t in
+// (tnear, tfar], double-sided triangles; rays with a NaN, infinite or
+// too-large component, a zero direction, tnear < 0 or tnear > tfar miss.
+using Ray = hprt_ray;
+using Hit = hprt_hit;
+inline constexpr uint32_t kInvalidId = 0xFFFFFFFFu;
+
+// Triangle meshes (geom_id = order of adding), plus the camera and lights a
+// render uses. A scene made from arrays gets a camera that frames it from +z
+// and a light at the camera; a scene file brings its own.
+class HPRT_API Scene {
+ public:
+  Scene();
+  ~Scene();
+  Scene(Scene&&) noexcept;
+  Scene& operator=(Scene&&) noexcept;
+
+  // A mesh file (OBJ, PLY, optionally .gz) or a JSON scene file, as the
+  // command line reads them.
+  static Scene from_file(const std::string& path);
+
+  // Adds a mesh: xyz per vertex (vertices.size() = 3 * vertex count) and
+  // three indices per triangle. The arrays are copied. Indices out of range,
+  // non-finite vertices and zero-area triangles are kept and never hit.
+  // Returns the mesh's geom_id.
+  uint32_t add_mesh(std::span<const float> vertices, std::span<const uint32_t> indices);
+
+  // Moves the vertices of mesh geom_id (same vertex count): a deformed
+  // frame. Backends built over the scene see it after their update().
+  void set_vertices(uint32_t geom_id, std::span<const float> vertices);
+
+  size_t mesh_count() const;
+  size_t triangle_count() const;
+  size_t vertex_count(uint32_t geom_id) const;
+  // xyz per vertex and 3 per triangle, as stored (views valid until the
+  // next add_mesh or set_vertices).
+  std::span<const float> vertices(uint32_t geom_id) const;
+  std::span<const uint32_t> indices(uint32_t geom_id) const;
+  // Bounding box of the finite vertices: min x, y, z, max x, y, z.
+  std::array<float, 6> bounds() const;
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Backend options by the command line's names, without the dashes:
+// threads, builder (sweep|presorted|binned|parallel|morton), bins, leaf_size,
+// sah_traversal, sah_intersection, isect (watertight|mt),
+// layout (bvh2|bvh4|bvh8), quality (low|medium|high|refit), robust (on|off),
+// update (rebuild|refit|adaptive), adaptive_factor. Values as on the command
+// line ("32", "morton"); an unknown key or a bad value throws Error
+// "key: problem". Options that do not apply to a backend are ignored by it.
+using Options = std::map<std::string, std::string>;
+
+struct BackendInfo {
+  std::string name;                // configuration, e.g. "bvh/parallel/watertight", "embree/medium"
+  double build_ms = 0.0;           // the last build() or update()
+  size_t memory_bytes = 0;         // the acceleration structure (0 when a plugin does not say)
+  bool rebuilt = true;             // update(): rebuilt rather than refitted
+  uint64_t malformed_answers = 0;  // plugins: answers that failed hprt's checks so far
+};
+
+class HPRT_API Backend {
+ public:
+  // name: "bvh" (hprt's BVH, the default), "embree", or
+  // "plugin:PATH.so[:OPTIONS]" (a library implementing <hprt/plugin.h>).
+  // Throws Error for an unknown name or option, or a plugin that cannot be
+  // loaded or created.
+  explicit Backend(const std::string& name = "bvh", const Options& options = {});
+  ~Backend();
+  Backend(Backend&&) noexcept;
+  Backend& operator=(Backend&&) noexcept;
+
+  // Builds over the scene, which must outlive the backend's queries (the
+  // embree backend shares its vertex arrays).
+  void build(const Scene& scene);
+  // After Scene::set_vertices: refits or rebuilds per the update option.
+  void update(const Scene& scene);
+
+  // hits.size() and occluded.size() must be at least rays.size().
+  // occluded: 1 when some hit has t in (tnear, tfar], else 0.
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
+  void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
+
+  BackendInfo info() const;
+
+  struct Impl;
+  const Impl& impl() const { return *impl_; }
+
+ private:
+  std::unique_ptr<Impl> impl_;
+};
+
+// Ray sets as `hprt rays` makes them: kind primary, shadow, reflection,
+// diffuse, random, vertex-probe, edge-probe, grazing, axis, nan (the command line's --kind
+// names); deterministic for a seed. Throws Error for an unknown kind.
+HPRT_API std::vector<Ray> make_rays(const Scene& scene, const std::string& kind, size_t count,
+                                    uint64_t seed = 1);
+
+// One ray's verdict in a diff. Agree: same triangle at the same t (or both
+// miss); tie: different triangles at the same t, both really hit. Otherwise
+// the exact arbiter says which answer is right.
+enum class Verdict : uint8_t {
+  kAgree,
+  kTie,
+  kBackendRight,
+  kReferenceRight,
+  kBothRight,
+  kBothWrong
+};
+
+struct DiffReport {
+  size_t rays = 0, agree = 0, ties = 0, mismatches = 0;
+  size_t backend_right = 0, reference_right = 0, both_right = 0, both_wrong = 0;
+  size_t backend_malformed = 0, reference_malformed = 0;  // answers failing hprt's checks
+  double max_rel_t_error = 0.0;   // agreeing rays, backend against reference
+  std::vector<Verdict> verdicts;  // one per ray
+  std::string summary;            // the lines `hprt validate rays` prints
+  // Rays where the backend's answer is wrong: reference right or both wrong.
+  size_t backend_wrong() const { return reference_right + both_wrong; }
+};
+
+// Traces `rays` through both built backends (closest hit, or occlusion when
+// `occluded`) and settles every disagreement with the exact arbiter.
+HPRT_API DiffReport diff(const Scene& scene, const Backend& backend, const Backend& reference,
+                         std::span<const Ray> rays, bool occluded = false);
+
+// Linear float RGB, row 0 at the top: pixel (x, y) is rgb[3 * (y * width + x) + c].
+struct Image {
+  int width = 0, height = 0;
+  std::vector<float> rgb;
+};
+
+// A Whitted render (shadows, mirror reflections) of the scene through its
+// camera with a built backend. width/height 0 keep the camera's; one alone
+// keeps its aspect ratio.
+HPRT_API Image render(const Scene& scene, const Backend& backend, int width = 0, int height = 0);
+
+}  // namespace hprt::api

@@ -1,0 +1,68 @@
+#include <stdexcept>
+
+#include "api/api_errors.h"
+#include "api/api_scene.h"
+#include "backends/backend_option_parse.h"
+
+namespace hprt::api {
+
+const Intersector& Backend::Impl::built() const {
+  if (!intersector) throw std::invalid_argument("backend used after being moved from");
+  return *intersector;
+}
+
+Backend::Backend(const std::string& name, const Options& options)
+    : impl_(std::make_unique<Impl>()) {
+  translate_errors([&] {
+    BackendOptions& o = impl_->options;
+    o.backend = name;
+    bool threads_given = false;
+    for (const auto& [key, value] : options) {
+      set_backend_option(o, key, value);
+      threads_given = threads_given || key == "threads";
+    }
+    if (threads_given)
+      impl_->arena = std::make_unique<tbb::task_arena>(
+          o.threads > 0 ? o.threads : int(tbb::task_arena::automatic));
+    impl_->intersector = impl_->run([&] { return make_intersector(name, o); });
+  });
+}
+
+Backend::~Backend() = default;
+Backend::Backend(Backend&&) noexcept = default;
+Backend& Backend::operator=(Backend&&) noexcept = default;
+
+void Backend::build(const Scene& scene) {
+  translate_errors([&] {
+    impl_->run([&] { const_cast<Intersector&>(impl_->built()).build(scene.impl().scene); });
+  });
+}
+
+void Backend::update(const Scene& scene) {
+  translate_errors([&] {
+    impl_->run([&] { const_cast<Intersector&>(impl_->built()).update(scene.impl().scene); });
+  });
+}
+
+// The public records are hprt's own (static_asserts in backends/plugin_backend.cpp).
+void Backend::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
+  if (hits.size() < rays.size()) throw std::invalid_argument("intersect: fewer hits than rays");
+  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
+  const std::span<hprt::Hit> h(reinterpret_cast<hprt::Hit*>(hits.data()), rays.size());
+  translate_errors([&] { impl_->run([&] { impl_->built().intersect(r, h); }); });
+}
+
+void Backend::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const {
+  if (occluded.size() < rays.size())
+    throw std::invalid_argument("occluded: fewer results than rays");
+  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
+  translate_errors(
+      [&] { impl_->run([&] { impl_->built().occluded(r, occluded.first(rays.size())); }); });
+}
+
+BackendInfo Backend::info() const {
+  const BuildInfo i = impl_->built().info();
+  return {i.name, i.build_ms, i.memory_bytes, i.rebuilt, i.malformed_answers};
+}
+
+}  // namespace hprt::api

@@ -1,0 +1,165 @@
+// The public C++ API (include/hprt/hprt.h) through libhprt.so alone, as a
+// consumer sees it: scenes from arrays and files, backends by name with the
+// command line's options, queries, update, diff and render, and errors as
+// hprt::api::Error with the CLI's one-line message.
+#include <gtest/gtest.h>
+#include <hprt/hprt.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace api = hprt::api;
+
+// An n x n grid of quads (2 triangles each) in the plane z = 0, [-1, 1]^2.
+struct Grid {
+  std::vector<float> vertices;
+  std::vector<uint32_t> indices;
+};
+Grid grid(uint32_t n) {
+  Grid g;
+  for (uint32_t j = 0; j <= n; ++j)
+    for (uint32_t i = 0; i <= n; ++i)
+      g.vertices.insert(g.vertices.end(), {-1.0f + 2.0f * float(i) / float(n),
+                                           -1.0f + 2.0f * float(j) / float(n), 0.0f});
+  for (uint32_t j = 0; j < n; ++j)
+    for (uint32_t i = 0; i < n; ++i) {
+      const uint32_t a = j * (n + 1) + i, b = a + 1, c = a + n + 1, d = c + 1;
+      g.indices.insert(g.indices.end(), {a, b, d, a, d, c});
+    }
+  return g;
+}
+
+api::Ray down(float x, float y, float z = 2.0f) {
+  return {x, y, z, 0.0f, 0.0f, 0.0f, -1.0f, std::numeric_limits<float>::infinity()};
+}
+
+std::string error_of(const auto& f) {
+  try {
+    f();
+  } catch (const api::Error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Api, SceneFromArraysAnswersOnEveryBackend) {
+  api::Scene scene;
+  const Grid g = grid(8);
+  EXPECT_EQ(scene.add_mesh(g.vertices, g.indices), 0u);
+  EXPECT_EQ(scene.triangle_count(), 128u);
+  EXPECT_EQ(scene.vertex_count(0), 81u);
+  EXPECT_EQ(scene.bounds()[0], -1.0f);
+  EXPECT_EQ(scene.bounds()[5], 0.0f);
+  const std::vector<api::Ray> rays = {down(0.1f, 0.2f), down(3.0f, 0.0f), down(-0.93f, 0.61f)};
+  for (const char* name : {"bvh", "embree"}) {
+    api::Backend b(name, {{"threads", "2"}});
+    b.build(scene);
+    std::vector<api::Hit> hits(rays.size());
+    std::vector<uint8_t> occ(rays.size());
+    b.intersect(rays, hits);
+    b.occluded(rays, occ);
+    EXPECT_FLOAT_EQ(hits[0].t, 2.0f) << name;
+    EXPECT_EQ(hits[0].geom_id, 0u);
+    EXPECT_LT(hits[0].prim_id, 128u);
+    EXPECT_TRUE(std::isinf(hits[1].t));
+    EXPECT_EQ(hits[1].prim_id, api::kInvalidId);
+    EXPECT_EQ(hits[2].geom_id, 0u);
+    EXPECT_EQ(occ, (std::vector<uint8_t>{1, 0, 1}));
+    EXPECT_FALSE(b.info().name.empty());
+  }
+}
+
+TEST(Api, OptionsUseTheCommandLinesNamesAndChecks) {
+  api::Scene scene;
+  const Grid g = grid(4);
+  scene.add_mesh(g.vertices, g.indices);
+  api::Backend b("bvh", {{"builder", "morton"}, {"layout", "bvh4"}, {"leaf_size", "2"}});
+  b.build(scene);
+  EXPECT_EQ(b.info().name, "bvh/morton/watertight/bvh4");
+  EXPECT_GT(b.info().memory_bytes, 0u);
+  EXPECT_EQ(error_of([] {
+              api::Backend("bvh", {{"leaf_size", "0"}});
+            }),
+            "leaf_size: must be in [1, 255], got 0");
+  EXPECT_EQ(error_of([] {
+              api::Backend("bvh", {{"builder", "fast"}});
+            }),
+            "builder: expected sweep, presorted, binned, parallel or morton, got 'fast'");
+  EXPECT_NE(error_of([] {
+              api::Backend("bvh", {{"colour", "red"}});
+            }).find("colour: unknown"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { api::Backend("optix"); }).find("unknown backend 'optix'"),
+            std::string::npos);
+  EXPECT_NE(error_of([] {
+              api::Backend("plugin:/no/such.so");
+            }).find("/no/such.so: plugin file not found"),
+            std::string::npos);
+  EXPECT_NE(error_of([] { api::Scene::from_file("/no/such/mesh.obj"); }).find("/no/such/mesh.obj"),
+            std::string::npos);
+}
+
+TEST(Api, UpdateSeesMovedVertices) {
+  api::Scene scene;
+  Grid g = grid(4);
+  scene.add_mesh(g.vertices, g.indices);
+  for (const char* update : {"refit", "rebuild"}) {
+    api::Backend b("bvh", {{"update", update}});
+    b.build(scene);
+    for (size_t i = 2; i < g.vertices.size(); i += 3) g.vertices[i] = 0.5f;
+    scene.set_vertices(0, g.vertices);
+    b.update(scene);
+    std::vector<api::Ray> rays = {down(0.0f, 0.0f)};
+    std::vector<api::Hit> hits(1);
+    b.intersect(rays, hits);
+    EXPECT_FLOAT_EQ(hits[0].t, 1.5f) << update;
+    for (size_t i = 2; i < g.vertices.size(); i += 3) g.vertices[i] = 0.0f;
+    scene.set_vertices(0, g.vertices);
+  }
+  EXPECT_THROW(scene.set_vertices(0, std::vector<float>(3)), std::invalid_argument);
+}
+
+TEST(Api, DiffOfTwoBackendsAndAPluginThatLies) {
+  api::Scene scene;
+  const Grid g = grid(16);
+  scene.add_mesh(g.vertices, g.indices);
+  const std::vector<api::Ray> rays = api::make_rays(scene, "primary", 3000, 4);
+  ASSERT_EQ(rays.size(), 3000u);
+  api::Backend bvh("bvh"), embree("embree"), good(std::string("plugin:") + HPRT_TEST_PLUGIN_GOOD),
+      bad(std::string("plugin:") + HPRT_TEST_PLUGIN_MALFORMED);
+  for (api::Backend* b : {&bvh, &embree, &good, &bad}) b->build(scene);
+  const api::DiffReport d = api::diff(scene, bvh, embree, rays);
+  EXPECT_EQ(d.rays, 3000u);
+  EXPECT_EQ(d.backend_wrong(), 0u);
+  EXPECT_EQ(d.verdicts.size(), 3000u);
+  EXPECT_EQ(d.agree + d.ties + d.mismatches, d.rays);
+  EXPECT_NE(d.summary.find("wrong on 0 rays: pass"), std::string::npos) << d.summary;
+  EXPECT_EQ(api::diff(scene, good, embree, rays).backend_wrong(), 0u);
+  const api::DiffReport lies = api::diff(scene, bad, embree, rays);
+  EXPECT_GT(lies.backend_malformed, 100u);
+  EXPECT_GE(lies.backend_wrong(), lies.backend_malformed);
+  EXPECT_NE(lies.summary.find("FAIL"), std::string::npos);
+  EXPECT_THROW(api::make_rays(scene, "sideways", 10), api::Error);
+}
+
+TEST(Api, RenderFillsTheBuffer) {
+  api::Scene scene;
+  const Grid g = grid(4);
+  scene.add_mesh(g.vertices, g.indices);
+  api::Backend b;
+  b.build(scene);
+  const api::Image img = api::render(scene, b, 40, 0);
+  EXPECT_EQ(img.width, 40);
+  EXPECT_EQ(img.height, 30);  // the default camera's 4:3
+  ASSERT_EQ(img.rgb.size(), size_t(3 * 40 * 30));
+  // The centre sees the lit grid, brighter than the background corner.
+  const size_t centre = 3 * (15 * 40 + 20);
+  EXPECT_GT(img.rgb[centre], img.rgb[0]);
+  EXPECT_STREQ(api::version(), "0.1.0");
+}
+
+}  // namespace
