@@ -8,6 +8,7 @@
 #include <utility>
 
 #include "core/error.h"
+#include "core/hit_check.h"
 #include "core/parallel.h"
 #include "validators/ray_diff.h"
 #include "validators/ray_sets.h"
@@ -99,7 +100,9 @@ size_t count_wrong(const HardSet& set, const Intersector& b) {
     const ArbiterAnswer& ans = set.answers[i];
     const Hit& h = hits[i];
     bool right;
-    if (h.hit()) {
+    if (!hit_well_formed(*set.scene, set.rays[i], h)) {
+      right = false;  // a plugin's malformed answer (core/hit_check.h)
+    } else if (h.hit()) {
       ArbiterAnswer with_hit = ans;
       add_candidate(*set.scene, set.rays[i], PrimRef{h.geom_id, h.prim_id}, with_hit);
       right = closest_hit_right(with_hit, set.rays[i], h, kDiffOptions);

@@ -1,7 +1,8 @@
 // hprt's bvh backend behind the C plugin ABI (<hprt/plugin.h>), through the
 // public C++ API: create() takes the backend options as key=value pairs
-// separated by commas (builder=morton,layout=bvh4,...), build() copies the
-// meshes into an hprt::api::Scene, and intersect()/occluded() pass the
+// separated by commas (builder=morton,layout=bvh4,...), build() shares the
+// meshes hprt passes (the ABI keeps them valid until the next build, update
+// or destroy) in an hprt::api::Scene, and intersect()/occluded() pass the
 // caller's records straight through (hprt::api::Ray is hprt_ray). No
 // threads option: hprt calls in from its own threads and the backend runs
 // in the caller's arena.
@@ -74,8 +75,8 @@ int build(hprt_backend* b, const hprt_mesh* meshes, uint32_t count, char* error,
   return guarded(error, size, [&] {
     b->scene = api::Scene();
     for (uint32_t m = 0; m < count; ++m)
-      b->scene.add_mesh({meshes[m].vertices, size_t(meshes[m].vertex_count) * 3},
-                        {meshes[m].indices, size_t(meshes[m].triangle_count) * 3});
+      b->scene.add_mesh_shared({meshes[m].vertices, size_t(meshes[m].vertex_count) * 3},
+                               {meshes[m].indices, size_t(meshes[m].triangle_count) * 3});
     b->backend->build(b->scene);
   });
 }

@@ -80,15 +80,26 @@ class HPRT_API Scene {
   // Returns the mesh's geom_id.
   uint32_t add_mesh(std::span<const float> vertices, std::span<const uint32_t> indices);
 
+  // The same without a copy: the scene keeps pointers to the caller's arrays,
+  // which must stay alive and unmoved as long as the scene and the backends
+  // built over it are used. The caller may change the vertices in place
+  // between queries and then call Backend::update(). (The embree backend
+  // copies the vertices all the same: Embree reads 4 bytes past the last
+  // vertex, which a caller's array need not have.)
+  uint32_t add_mesh_shared(std::span<const float> vertices, std::span<const uint32_t> indices);
+
   // Moves the vertices of mesh geom_id (same vertex count): a deformed
-  // frame. Backends built over the scene see it after their update().
+  // frame. Backends built over the scene see it after their update(). A
+  // shared mesh then shares `vertices` instead of its old array; any other
+  // mesh copies them.
   void set_vertices(uint32_t geom_id, std::span<const float> vertices);
+  bool shared(uint32_t geom_id) const;  // whether mesh geom_id views the caller's arrays
 
   size_t mesh_count() const;
   size_t triangle_count() const;
   size_t vertex_count(uint32_t geom_id) const;
-  // xyz per vertex and 3 per triangle, as stored (views valid until the
-  // next add_mesh or set_vertices).
+  // xyz per vertex and 3 per triangle, as stored (the caller's own arrays for
+  // a shared mesh; else valid until the next add_mesh or set_vertices).
   std::span<const float> vertices(uint32_t geom_id) const;
   std::span<const uint32_t> indices(uint32_t geom_id) const;
   // Bounding box of the finite vertices: min x, y, z, max x, y, z.

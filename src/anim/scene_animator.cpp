@@ -158,7 +158,7 @@ SceneAnimator::SceneAnimator(Scene& scene) {
       load_frame_mesh(format_frame_path(a->sequence->pattern, a->sequence->first), *a->sequence,
                       mesh);
     }
-    a->rest = mesh.positions;
+    a->rest = std::as_const(mesh).positions.to_vector();
     a->pose = measure_rest_pose(a->rest);
     if (!mesh.normals.empty() && mesh.normals.size() == mesh.positions.size())
       build_rings(mesh, *a);

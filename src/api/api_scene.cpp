@@ -1,4 +1,6 @@
 #include "api/api_scene.h"
+#include <algorithm>
+
 #include "api/api_errors.h"
 #include "io/scene/scene_reader.h"
 
@@ -33,33 +35,67 @@ Scene Scene::from_file(const std::string& path) {
   return s;
 }
 
-uint32_t Scene::add_mesh(std::span<const float> vertices, std::span<const uint32_t> indices) {
+namespace {
+
+void check_mesh_arrays(std::span<const float> vertices, std::span<const uint32_t> indices) {
   if (vertices.size() % 3 != 0)
     throw std::invalid_argument("add_mesh: vertices.size() is not a multiple of 3");
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("add_mesh: indices.size() is not a multiple of 3");
-  if (impl_->scene.meshes.size() >= kInvalidId) throw Error("add_mesh: too many meshes");
+}
+
+static_assert(sizeof(Vec3f) == 3 * sizeof(float) && sizeof(Vec3u) == 3 * sizeof(uint32_t));
+
+// The public arrays as hprt's records (3 floats = Vec3f, 3 uint32 = Vec3u).
+const Vec3f* as_points(std::span<const float> v) {
+  return reinterpret_cast<const Vec3f*>(v.data());
+}
+const Vec3u* as_triangles(std::span<const uint32_t> i) {
+  return reinterpret_cast<const Vec3u*>(i.data());
+}
+
+uint32_t add_to(hprt::Scene& scene, hprt::TriangleMesh mesh) {
+  if (scene.meshes.size() >= kInvalidId) throw Error("add_mesh: too many meshes");
+  mesh.name = "mesh " + std::to_string(scene.meshes.size());
+  scene.add_mesh(std::move(mesh));
+  frame(scene);
+  return uint32_t(scene.meshes.size() - 1);
+}
+
+}  // namespace
+
+uint32_t Scene::add_mesh(std::span<const float> vertices, std::span<const uint32_t> indices) {
+  check_mesh_arrays(vertices, indices);
   hprt::TriangleMesh m;
-  m.name = "mesh " + std::to_string(impl_->scene.meshes.size());
   m.positions.reserve(vertices.size() / 3 + 1);  // Embree's padding (pad_for_embree)
-  for (size_t i = 0; i < vertices.size(); i += 3)
-    m.positions.emplace_back(vertices[i], vertices[i + 1], vertices[i + 2]);
-  m.triangles.reserve(indices.size() / 3);
-  for (size_t i = 0; i < indices.size(); i += 3)
-    m.triangles.push_back(Vec3u{{indices[i], indices[i + 1], indices[i + 2]}});
-  impl_->scene.add_mesh(std::move(m));
-  frame(impl_->scene);
-  return uint32_t(impl_->scene.meshes.size() - 1);
+  m.positions.assign(as_points(vertices), as_points(vertices) + vertices.size() / 3);
+  m.triangles.assign(as_triangles(indices), as_triangles(indices) + indices.size() / 3);
+  return add_to(impl_->scene, std::move(m));
+}
+
+uint32_t Scene::add_mesh_shared(std::span<const float> vertices,
+                                std::span<const uint32_t> indices) {
+  check_mesh_arrays(vertices, indices);
+  hprt::TriangleMesh m;
+  m.positions = SharedArray<Vec3f>::view(as_points(vertices), vertices.size() / 3);
+  m.triangles = SharedArray<Vec3u>::view(as_triangles(indices), indices.size() / 3);
+  return add_to(impl_->scene, std::move(m));
 }
 
 void Scene::set_vertices(uint32_t geom_id, std::span<const float> vertices) {
   hprt::TriangleMesh& m = mesh_at(impl_->scene, geom_id);
-  if (vertices.size() != 3 * m.positions.size())
-    throw std::invalid_argument("set_vertices: expected " + std::to_string(3 * m.positions.size()) +
+  if (vertices.size() != 3 * m.vertex_count())
+    throw std::invalid_argument("set_vertices: expected " + std::to_string(3 * m.vertex_count()) +
                                 " floats (the mesh's vertex count x 3), got " +
                                 std::to_string(vertices.size()));
-  for (size_t i = 0; i < m.positions.size(); ++i)
-    m.positions[i] = Vec3f(vertices[3 * i], vertices[3 * i + 1], vertices[3 * i + 2]);
+  if (m.positions.is_view())
+    m.positions = SharedArray<Vec3f>::view(as_points(vertices), vertices.size() / 3);
+  else
+    std::copy_n(as_points(vertices), m.positions.size(), m.positions.data());
+}
+
+bool Scene::shared(uint32_t geom_id) const {
+  return mesh_at(impl_->scene, geom_id).positions.is_view();
 }
 
 size_t Scene::mesh_count() const { return impl_->scene.meshes.size(); }

@@ -8,6 +8,7 @@
 
 #include "core/aabb.h"
 #include "core/material.h"
+#include "core/shared_array.h"
 #include "core/vec.h"
 
 namespace hprt {
@@ -28,8 +29,8 @@ inline bool nonzero_area(const Vec3f& a, const Vec3f& b, const Vec3f& c) {
 
 struct TriangleMesh {
   std::string name;              // file path or generator description, for messages
-  std::vector<Vec3f> positions;  // see pad_for_embree()
-  std::vector<Vec3u> triangles;
+  SharedArray<Vec3f> positions;  // see pad_for_embree(); may view a caller's array (shared_array.h)
+  SharedArray<Vec3u> triangles;
   std::vector<Vec3f> normals;  // empty, or one per position
   Material material;
 
@@ -39,7 +40,9 @@ struct TriangleMesh {
   // Embree reads vertex buffers with 16-byte loads, so a shared float3 buffer
   // needs 4 readable bytes past the last vertex (Embree 3 API docs,
   // rtcSetSharedGeometryBuffer). Reserving one spare element provides them.
+  // A view of a caller's array stays one (the embree backend then copies it).
   void pad_for_embree() {
+    if (positions.is_view()) return;
     if (positions.capacity() < positions.size() + 1) positions.reserve(positions.size() + 1);
   }
   bool padded_for_embree() const { return positions.capacity() >= positions.size() + 1; }

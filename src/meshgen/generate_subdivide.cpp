@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <span>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -16,7 +18,7 @@ namespace {
 // Edge table: edge (a < b) lives in bucket a; its id is start[a] + rank in bucket.
 class EdgeTable {
  public:
-  EdgeTable(size_t vertices, const std::vector<Vec3u>& tris) : offset_(vertices + 1, 0) {
+  EdgeTable(size_t vertices, std::span<const Vec3u> tris) : offset_(vertices + 1, 0) {
     for (const Vec3u& t : tris)
       for (int k = 0; k < 3; ++k) ++offset_[std::min(t[k], t[(k + 1) % 3]) + 1];
     for (size_t v = 0; v < vertices; ++v) offset_[v + 1] += offset_[v];
@@ -64,7 +66,7 @@ void subdivide_once(TriangleMesh& mesh) {
     throw InputError(mesh.name, "subdivision would need more than 2^32 vertices");
   std::vector<Vec3f> positions;
   positions.reserve(nv + edges.size() + 1);
-  positions = mesh.positions;
+  positions.assign(std::as_const(mesh).positions.begin(), std::as_const(mesh).positions.end());
   positions.resize(nv + edges.size());
   edges.for_each([&](size_t e, uint32_t a, uint32_t b) {
     positions[nv + e] = Vec3f((Vec3d(mesh.positions[a]) + Vec3d(mesh.positions[b])) * 0.5);

@@ -49,17 +49,18 @@ TEST(Deformers, IdentityAtTimeZero) {
     EXPECT_EQ(run(spec_of(kind), rest, 0.0f), rest) << kind;
   TriangleMesh sphere = generate_sphere(2000);
   unweld(sphere);
-  EXPECT_EQ(run(spec_of("explode"), sphere.positions, 0.0f), sphere.positions);
+  EXPECT_EQ(run(spec_of("explode"), sphere.positions.to_vector(), 0.0f),
+            sphere.positions.to_vector());
 }
 
 TEST(Deformers, SameBitsForAnyThreadCountAndInPlace) {
   TriangleMesh sphere = generate_sphere(20000);
   unweld(sphere);
   for (const char* kind : {"twist", "bend", "wave", "pulse", "explode"}) {
-    const std::vector<Vec3f> one = run(spec_of(kind), sphere.positions, 0.7f, 1);
-    EXPECT_EQ(one, run(spec_of(kind), sphere.positions, 0.7f, 3)) << kind;
-    std::vector<Vec3f> in_place = sphere.positions;
-    const RestPose pose = measure_rest_pose(sphere.positions);
+    const std::vector<Vec3f> one = run(spec_of(kind), sphere.positions.to_vector(), 0.7f, 1);
+    EXPECT_EQ(one, run(spec_of(kind), sphere.positions.to_vector(), 0.7f, 3)) << kind;
+    std::vector<Vec3f> in_place = sphere.positions.to_vector();
+    const RestPose pose = measure_rest_pose(sphere.positions.to_vector());
     apply_deformer(spec_of(kind), pose, 0.7f, in_place, in_place);
     EXPECT_EQ(one, in_place) << kind;
     EXPECT_EQ(one.size(), sphere.positions.size());
@@ -144,7 +145,7 @@ TEST(Deformers, PulseKeepsTheCentroid) {
   s.speed = 0.5f;
   const RestPose rest = measure_rest_pose(torus.positions);
   for (float t : {0.3f, 1.0f, 1.7f}) {
-    const std::vector<Vec3f> out = run(s, torus.positions, t);
+    const std::vector<Vec3f> out = run(s, torus.positions.to_vector(), t);
     const RestPose moved = measure_rest_pose(out);
     EXPECT_NEAR(moved.centroid.x, rest.centroid.x, 1e-5f);
     EXPECT_NEAR(moved.centroid.y, rest.centroid.y, 1e-5f);
@@ -162,7 +163,7 @@ TEST(Deformers, ExplodeMovesEachTriangleRigidlyAlongItsNormal) {
   s.amplitude = 0.4f;
   s.speed = 1.5f;
   const float t = 0.8f;
-  const std::vector<Vec3f> out = run(s, sphere.positions, t);
+  const std::vector<Vec3f> out = run(s, sphere.positions.to_vector(), t);
   for (size_t tri = 0; tri < sphere.triangles.size(); ++tri) {
     const Vec3f* p = &sphere.positions[3 * tri];
     const Vec3f* q = &out[3 * tri];

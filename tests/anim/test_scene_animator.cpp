@@ -80,7 +80,7 @@ TEST(SceneAnimator, FrameDependsOnlyOnItsNumber) {
 TEST(SceneAnimator, KeepsSizesTopologyAndBuffers) {
   Scene scene = scene_with({"wave", "explode"});
   const size_t wave_vertices = scene.meshes[0].positions.size();
-  const std::vector<Vec3u> wave_topology = scene.meshes[0].triangles;
+  const std::vector<Vec3u> wave_topology = scene.meshes[0].triangles.to_vector();
   const size_t explode_tris = scene.meshes[1].triangles.size();
   const SceneAnimator anim(scene);
   // Set-up unwelded the exploding mesh only.
@@ -89,7 +89,7 @@ TEST(SceneAnimator, KeepsSizesTopologyAndBuffers) {
   EXPECT_TRUE(scene.meshes[1].padded_for_embree());
   const Vec3f* data0 = scene.meshes[0].positions.data();
   const Vec3f* data1 = scene.meshes[1].positions.data();
-  const std::vector<Vec3u> explode_topology = scene.meshes[1].triangles;
+  const std::vector<Vec3u> explode_topology = scene.meshes[1].triangles.to_vector();
   for (int k : {0, 4, 9, 1}) {
     anim.apply(k, scene);
     EXPECT_EQ(scene.meshes[0].positions.data(), data0);  // in place: Embree's buffers stay valid
@@ -104,7 +104,7 @@ TEST(SceneAnimator, KeepsSizesTopologyAndBuffers) {
 TEST(SceneAnimator, StaticSceneIsNotAnimated) {
   Scene scene;
   scene.add_mesh(generate_sphere(100));
-  const std::vector<Vec3f> before = scene.meshes[0].positions;
+  const std::vector<Vec3f> before = scene.meshes[0].positions.to_vector();
   const SceneAnimator anim(scene);
   EXPECT_FALSE(anim.animated());
   EXPECT_EQ(anim.frames(), 1);

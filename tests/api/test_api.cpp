@@ -146,6 +146,35 @@ TEST(Api, DiffOfTwoBackendsAndAPluginThatLies) {
   EXPECT_THROW(api::make_rays(scene, "sideways", 10), api::Error);
 }
 
+TEST(Api, SharedMeshesAreNotCopied) {
+  Grid g = grid(8);
+  api::Scene scene;
+  const uint32_t id = scene.add_mesh_shared(g.vertices, g.indices);
+  EXPECT_TRUE(scene.shared(id));
+  EXPECT_EQ(scene.vertices(id).data(), g.vertices.data());
+  EXPECT_EQ(scene.indices(id).data(), g.indices.data());
+  const std::vector<api::Ray> rays = {down(0.3f, -0.2f)};
+  std::vector<api::Hit> hits(1);
+  for (const char* name : {"bvh", "embree"}) {
+    api::Backend b(name);
+    b.build(scene);
+    EXPECT_EQ(scene.vertices(id).data(), g.vertices.data()) << name;  // still not copied
+    b.intersect(rays, hits);
+    EXPECT_FLOAT_EQ(hits[0].t, 2.0f);
+    // Moved in place by the caller, then update().
+    for (size_t i = 2; i < g.vertices.size(); i += 3) g.vertices[i] = -1.0f;
+    b.update(scene);
+    b.intersect(rays, hits);
+    EXPECT_FLOAT_EQ(hits[0].t, 3.0f) << name;
+    for (size_t i = 2; i < g.vertices.size(); i += 3) g.vertices[i] = 0.0f;
+  }
+  // set_vertices on a shared mesh shares the new array.
+  std::vector<float> moved = g.vertices;
+  scene.set_vertices(id, moved);
+  EXPECT_EQ(scene.vertices(id).data(), moved.data());
+  EXPECT_FALSE(scene.shared(scene.add_mesh(g.vertices, g.indices)));
+}
+
 TEST(Api, RenderFillsTheBuffer) {
   api::Scene scene;
   const Grid g = grid(4);
