@@ -77,8 +77,8 @@ void run_trace(const TraceArgs& a) {
   if (info.malformed_answers > 0)
     std::fprintf(stderr,
                  "hprt trace: warning: %s gave %llu malformed answers (t outside [tnear, tfar], "
-                 "ids out of range, u/v outside the triangle, or a byte not 0/1); written as "
-                 "misses with t = NaN\n",
+                 "ids out of range, u/v outside the triangle, or a byte not 0/1); hits written "
+                 "as misses with t = NaN, bytes as given\n",
                  info.name.c_str(), static_cast<unsigned long long>(info.malformed_answers));
   if (a.json) {
     nlohmann::json j;
