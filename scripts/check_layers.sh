@@ -20,13 +20,14 @@ declare -A allowed=(
   [src/render]="core anim bvh backends"
   [validators]="core io bvh backends workload"
   [bench]="core meshgen io anim bvh backends workload render validators"
+  [src/raycasting]=""
   [src/api]="core meshgen io anim bvh backends workload render validators"
   [src/cli]="core meshgen io anim bvh backends workload render validators bench"
 )
 # src/bvh's parts, lowest first.
 bvh_parts=(memory input split builders layout intersect traverse refit)
 
-layers="core|meshgen|io|image_oiio|anim|bvh|backends|workload|render|api|cli|validators|bench"
+layers="core|meshgen|io|image_oiio|anim|bvh|backends|workload|render|api|raycasting|cli|validators|bench"
 bad=0
 for dir in "${!allowed[@]}"; do
   # "file:#include \"target/" per include of another layer; one awk per folder

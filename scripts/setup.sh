@@ -8,6 +8,7 @@ packages=(
   libbenchmark-dev zlib1g-dev assimp-testmodels gnuplot-nox
   clang libclang-rt-14-dev clang-format
   slurm-wlm munge
+  python3-dev pybind11-dev python3-numpy python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do

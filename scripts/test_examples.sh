@@ -66,4 +66,17 @@ expect 0 "$hprt" validate rays "$work/bumpy.ply" --kind shadow -n 3000 --occlude
 expect 1 "$hprt" validate rays "$work/bumpy.ply" --kind random -n 3000 \
   --backend "plugin:$work/plugin_bruteforce_c/libhprt_bruteforce_broken.so" --mismatches "$work/m.rays"
 expect 0 "$hprt" bench trace "$work/bumpy.ply" --quick --no-suite --backend "$bvh_plugin"
+# The Python module from the prefix, when the build made it (HPRT_BUILD_PYTHON).
+pydir="$prefix/lib/python3/dist-packages"
+if compgen -G "$pydir/hprt*.so" > /dev/null; then
+  PYTHONPATH="$pydir" /usr/bin/python3 -c "
+import hprt
+s = hprt.RaycastingScene()
+s.add_triangles('$work/bumpy.ply')
+rays = hprt.RaycastingScene.create_rays_pinhole(60, [0, 0, 0], [0, 0, 4], [0, 1, 0], 64, 48)
+r = hprt.validate_rays(s, rays)
+assert r['backend_wrong'] == 0, r['summary']
+print('test_examples: installed Python module:', hprt.__version__, int((s.cast_rays(rays)['t_hit'] < 1e30).sum()), 'hits')
+"
+fi
 echo "test_examples: all examples built and ran against $prefix"

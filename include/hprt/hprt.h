@@ -160,6 +160,14 @@ class HPRT_API Backend {
   std::unique_ptr<Impl> impl_;
 };
 
+// A mesh file (OBJ, PLY, optionally .gz) as arrays: xyz per vertex, three
+// indices per triangle, the whole file as one mesh.
+struct MeshArrays {
+  std::vector<float> vertices;
+  std::vector<uint32_t> indices;
+};
+HPRT_API MeshArrays load_mesh(const std::string& path);
+
 // Ray sets as `hprt rays` makes them: kind primary, shadow, reflection,
 // diffuse, random, vertex-probe, edge-probe, grazing, axis, nan (the command line's --kind
 // names); deterministic for a seed. Throws Error for an unknown kind.

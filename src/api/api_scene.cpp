@@ -2,6 +2,7 @@
 #include <algorithm>
 
 #include "api/api_errors.h"
+#include "io/mesh/mesh_reader.h"
 #include "io/scene/scene_reader.h"
 
 namespace hprt::api {
@@ -23,6 +24,18 @@ void frame(hprt::Scene& s) {
 }  // namespace
 
 const char* version() { return HPRT_VERSION_STRING; }
+
+MeshArrays load_mesh(const std::string& path) {
+  return translate_errors([&] {
+    const hprt::TriangleMesh m = hprt::load_mesh(path);
+    MeshArrays out;
+    const auto* v = reinterpret_cast<const float*>(m.positions.data());
+    const auto* i = reinterpret_cast<const uint32_t*>(m.triangles.data());
+    out.vertices.assign(v, v + 3 * m.positions.size());
+    out.indices.assign(i, i + 3 * m.triangles.size());
+    return out;
+  });
+}
 
 Scene::Scene() : impl_(std::make_unique<Impl>()) {}
 Scene::~Scene() = default;

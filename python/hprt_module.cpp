@@ -1,0 +1,317 @@
+// The `hprt` Python module: numpy arrays in and out of
+// hprt::raycasting::RaycastingScene (src/raycasting) and the public API
+// (include/hprt/hprt.h). Only conversions live here: dtype and shape checks,
+// arrays read in place where their dtype and layout allow, results written
+// into fresh arrays, the GIL released around every build and query, and
+// errors turned into Python exceptions with the CLI's one-line message.
+#include <hprt/hprt.h>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include <cmath>
+#include <filesystem>
+#include <limits>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "raycasting/raycasting_scene.h"
+
+namespace py = pybind11;
+namespace rc = hprt::raycasting;
+namespace api = hprt::api;
+
+namespace {
+
+using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
+using IdArray = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>;
+
+// A float array of shape (..., last), float32 C-contiguous (read in place
+// when it already is; float64 and other real dtypes converted once).
+FloatArray float_array(const py::handle& obj, const char* name, py::ssize_t last) {
+  py::array a = py::array::ensure(obj);
+  if (!a) throw py::type_error(std::string(name) + ": expected an array-like of numbers");
+  const char kind = a.dtype().kind();
+  if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
+    throw py::type_error(std::string(name) + ": expected a real dtype, got " +
+                         std::string(py::str(a.dtype())));
+  if (a.ndim() < 1 || a.shape(a.ndim() - 1) != last)
+    throw py::value_error(
+        std::string(name) + ": expected shape (..., " + std::to_string(last) + "), got " +
+        std::string(py::str(
+            py::tuple(py::cast(std::vector<py::ssize_t>(a.shape(), a.shape() + a.ndim()))))));
+  return FloatArray::ensure(a);
+}
+
+// (M, 3) triangle indices of any integer dtype, each in [0, vertices).
+IdArray index_array(const py::handle& obj, size_t vertices) {
+  py::array a = py::array::ensure(obj);
+  if (!a || (a.dtype().kind() != 'i' && a.dtype().kind() != 'u'))
+    throw py::type_error("triangle_indices: expected an integer array-like");
+  if (a.ndim() != 2 || a.shape(1) != 3)
+    throw py::value_error("triangle_indices: expected shape (M, 3)");
+  // Range checks in int64 so that negative and > 2^32 values are caught before the cast.
+  auto wide = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+  const int64_t* p = wide.data();
+  for (py::ssize_t i = 0; i < wide.size(); ++i)
+    if (p[i] < 0 || uint64_t(p[i]) >= vertices)
+      throw py::value_error("triangle_indices: index " + std::to_string(p[i]) + " out of range (" +
+                            std::to_string(vertices) + " vertices)");
+  return IdArray::ensure(a.dtype().is(py::dtype::of<uint32_t>()) ? a : py::array(wide));
+}
+
+// The leading dimensions of an (..., k) array.
+std::vector<py::ssize_t> leading(const py::array& a) {
+  return std::vector<py::ssize_t>(a.shape(), a.shape() + a.ndim() - 1);
+}
+std::vector<py::ssize_t> with_last(std::vector<py::ssize_t> shape, py::ssize_t k) {
+  shape.push_back(k);
+  return shape;
+}
+
+// api::Error as FileNotFoundError when `path` does not exist, else hprt.Error.
+[[noreturn]] void rethrow_for_path(const api::Error& e, const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::exists(path, ec)) {
+    PyErr_SetString(PyExc_FileNotFoundError, e.what());
+    throw py::error_already_set();
+  }
+  throw;
+}
+
+api::Options options_of(const py::kwargs& kwargs) {
+  api::Options o;
+  for (const auto& [key, value] : kwargs)
+    o[py::str(key)] = py::isinstance<py::bool_>(value)
+                          ? std::string(value.cast<bool>() ? "on" : "off")
+                          : std::string(py::str(value));
+  return o;
+}
+
+// A scene and the arrays it shares (kept alive here per geometry).
+struct PyScene {
+  std::unique_ptr<rc::RaycastingScene> scene;
+  std::map<uint32_t, std::pair<py::object, py::object>> kept;
+};
+
+py::dict cast_rays(PyScene& s, const py::handle& rays_in, int nthreads) {
+  const FloatArray rays = float_array(rays_in, "rays", 6);
+  const std::vector<py::ssize_t> shape = leading(rays);
+  FloatArray t(shape), uvs(with_last(shape, 2)), normals(with_last(shape, 3));
+  IdArray geom(shape), prim(shape);
+  const rc::CastOutput out{t.mutable_data(), geom.mutable_data(), prim.mutable_data(),
+                           uvs.mutable_data(), normals.mutable_data()};
+  {
+    py::gil_scoped_release nogil;
+    s.scene->cast_rays({rays.data(), size_t(rays.size())}, out, nthreads);
+  }
+  py::dict d;
+  d["t_hit"] = t;
+  d["geometry_ids"] = geom;
+  d["primitive_ids"] = prim;
+  d["primitive_uvs"] = uvs;
+  d["primitive_normals"] = normals;
+  return d;
+}
+
+py::array test_occlusions(PyScene& s, const py::handle& rays_in, float tnear, float tfar,
+                          int nthreads) {
+  const FloatArray rays = float_array(rays_in, "rays", 6);
+  py::array_t<bool> occluded(leading(rays));
+  static_assert(sizeof(bool) == 1);
+  {
+    py::gil_scoped_release nogil;
+    s.scene->test_occlusions({rays.data(), size_t(rays.size())}, tnear, tfar,
+                             reinterpret_cast<uint8_t*>(occluded.mutable_data()), nthreads);
+  }
+  return occluded;
+}
+
+uint32_t add_triangles(PyScene& s, const py::object& first, const py::object& second) {
+  if (second.is_none()) {
+    if (!py::isinstance<py::str>(first) && !py::hasattr(first, "__fspath__"))
+      throw py::type_error(
+          "add_triangles: expected (vertex_positions, triangle_indices) or a path");
+    const std::string path = py::str(py::module_::import("os").attr("fspath")(first));
+    try {
+      py::gil_scoped_release nogil;
+      return s.scene->add_triangles(path);
+    } catch (const api::Error& e) {
+      rethrow_for_path(e, path);
+    }
+  }
+  const FloatArray v = float_array(first, "vertex_positions", 3);
+  if (v.ndim() != 2) throw py::value_error("vertex_positions: expected shape (N, 3)");
+  const IdArray i = index_array(second, size_t(v.shape(0)));
+  uint32_t id;
+  {
+    py::gil_scoped_release nogil;
+    id = s.scene->add_triangles({v.data(), size_t(v.size())}, {i.data(), size_t(i.size())},
+                                /*shared=*/true);
+  }
+  s.kept[id] = {v, i};
+  return id;
+}
+
+void update_triangles(PyScene& s, uint32_t id, const py::handle& vertices) {
+  const FloatArray v = float_array(vertices, "vertex_positions", 3);
+  if (v.ndim() != 2) throw py::value_error("vertex_positions: expected shape (N, 3)");
+  {
+    py::gil_scoped_release nogil;
+    s.scene->update_triangles(id, {v.data(), size_t(v.size())}, /*shared=*/true);
+  }
+  if (s.kept.count(id)) s.kept[id].first = v;
+}
+
+py::dict info(const PyScene& s) {
+  const rc::SceneInfo i = s.scene->info();
+  py::dict d;
+  d["backend"] = i.backend;
+  d["build_ms"] = i.build_ms;
+  d["memory_bytes"] = i.memory_bytes;
+  d["geometries"] = i.meshes;
+  d["triangles"] = i.triangles;
+  d["malformed_answers"] = i.malformed_answers;
+  return d;
+}
+
+py::array to_rays_array(const std::vector<float>& rays, int width, int height) {
+  py::array_t<float> out({py::ssize_t(height), py::ssize_t(width), py::ssize_t(6)});
+  std::copy(rays.begin(), rays.end(), out.mutable_data());
+  return out;
+}
+
+std::vector<double> doubles(const py::handle& obj, const char* name, size_t n) {
+  auto a = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(obj);
+  if (!a || size_t(a.size()) != n)
+    throw py::value_error(std::string(name) + ": expected " + std::to_string(n) + " numbers");
+  return std::vector<double>(a.data(), a.data() + n);
+}
+
+py::dict validate_rays(PyScene& s, const py::handle& rays_in, const std::string& reference) {
+  const FloatArray rays = float_array(rays_in, "rays", 6);
+  api::DiffReport r;
+  {
+    py::gil_scoped_release nogil;
+    r = s.scene->validate_rays({rays.data(), size_t(rays.size())}, reference);
+  }
+  py::array_t<uint8_t> verdicts(leading(rays));
+  std::copy(r.verdicts.begin(), r.verdicts.end(),
+            reinterpret_cast<api::Verdict*>(verdicts.mutable_data()));
+  py::dict d;
+  d["verdicts"] = verdicts;
+  for (const auto& [k, v] : {std::pair<const char*, size_t>{"rays", r.rays},
+                             {"agree", r.agree},
+                             {"ties", r.ties},
+                             {"mismatches", r.mismatches},
+                             {"backend_right", r.backend_right},
+                             {"reference_right", r.reference_right},
+                             {"both_right", r.both_right},
+                             {"both_wrong", r.both_wrong},
+                             {"backend_malformed", r.backend_malformed},
+                             {"reference_malformed", r.reference_malformed},
+                             {"backend_wrong", r.backend_wrong()}})
+    d[k] = v;
+  d["summary"] = r.summary;
+  return d;
+}
+
+}  // namespace
+
+PYBIND11_MODULE(hprt, m) {
+  m.doc() =
+      "hprt: ray casting against triangle meshes with hprt's BVH, Embree or a plugin; "
+      "Open3D's RaycastingScene API, numpy in and out.";
+  m.attr("__version__") = api::version();
+  py::register_exception<api::Error>(m, "Error", PyExc_RuntimeError);
+  m.attr("INVALID_ID") = api::kInvalidId;
+
+  py::class_<PyScene> cls(m, "RaycastingScene");
+  cls.attr("INVALID_ID") = api::kInvalidId;
+  cls.def(py::init([](int nthreads, const std::string& backend, const py::kwargs& kwargs) {
+            return PyScene{
+                std::make_unique<rc::RaycastingScene>(nthreads, backend, options_of(kwargs)), {}};
+          }),
+          py::arg("nthreads") = 0, py::arg("backend") = "bvh",
+          "backend: bvh, embree or plugin:PATH.so[:OPTIONS]; keyword options as the command "
+          "line's (builder='morton', layout='bvh4', leaf_size=2, quality='high', robust=True, "
+          "update='refit', ...)")
+      .def("add_triangles", &add_triangles, py::arg("vertex_positions"),
+           py::arg("triangle_indices") = py::none(),
+           "(N,3) vertices and (M,3) triangle indices (float32 and uint32 C-contiguous arrays "
+           "are used in place), or a mesh file path; returns the geometry id")
+      .def("update_triangles", &update_triangles, py::arg("geometry_id"),
+           py::arg("vertex_positions"), "moved vertices of a geometry (same count)")
+      .def("cast_rays", &cast_rays, py::arg("rays"), py::arg("nthreads") = 0,
+           "closest hits of (..., 6) rays [ox, oy, oz, dx, dy, dz]")
+      .def("test_occlusions", &test_occlusions, py::arg("rays"), py::arg("tnear") = 0.0f,
+           py::arg("tfar") = std::numeric_limits<float>::infinity(), py::arg("nthreads") = 0,
+           "whether anything is hit in [tnear, tfar] along each ray")
+      .def("info", &info, "backend configuration, build time, memory, geometry counts")
+      .def_static(
+          "create_rays_pinhole",
+          [](double fov_deg, const py::handle& center, const py::handle& eye, const py::handle& up,
+             int width_px, int height_px) {
+            const auto c = doubles(center, "center", 3), e = doubles(eye, "eye", 3),
+                       u = doubles(up, "up", 3);
+            return to_rays_array(
+                rc::create_rays_pinhole(fov_deg, c.data(), e.data(), u.data(), width_px, height_px),
+                width_px, height_px);
+          },
+          py::arg("fov_deg"), py::arg("center"), py::arg("eye"), py::arg("up"), py::arg("width_px"),
+          py::arg("height_px"))
+      .def_static(
+          "create_rays_pinhole",
+          [](const py::handle& intrinsic, const py::handle& extrinsic, int width_px,
+             int height_px) {
+            const auto k = doubles(intrinsic, "intrinsic_matrix", 9),
+                       e = doubles(extrinsic, "extrinsic_matrix", 16);
+            return to_rays_array(rc::create_rays_pinhole(k.data(), e.data(), width_px, height_px),
+                                 width_px, height_px);
+          },
+          py::arg("intrinsic_matrix"), py::arg("extrinsic_matrix"), py::arg("width_px"),
+          py::arg("height_px"));
+
+  m.def("validate_rays", &validate_rays, py::arg("scene"), py::arg("rays"),
+        py::arg("reference") = "embree",
+        "the scene's backend against `reference` on the rays, settled by the exact arbiter: "
+        "per-ray verdicts and the counts and summary `hprt validate rays` prints");
+  m.def(
+      "render",
+      [](const std::string& scene_path, int width, int height, const std::string& backend,
+         const py::kwargs& kwargs) {
+        api::Image img;
+        try {
+          py::gil_scoped_release nogil;
+          const api::Scene scene = api::Scene::from_file(scene_path);
+          api::Backend b(backend, options_of(kwargs));
+          b.build(scene);
+          img = api::render(scene, b, width, height);
+        } catch (const api::Error& e) {
+          rethrow_for_path(e, scene_path);
+        }
+        py::array_t<float> out({py::ssize_t(img.height), py::ssize_t(img.width), py::ssize_t(3)});
+        std::copy(img.rgb.begin(), img.rgb.end(), out.mutable_data());
+        return out;
+      },
+      py::arg("scene_path"), py::arg("width") = 0, py::arg("height") = 0,
+      py::arg("backend") = "bvh", "a Whitted render: (H, W, 3) float32 linear RGB");
+  m.def(
+      "load_mesh",
+      [](const std::string& path) {
+        api::MeshArrays mesh;
+        try {
+          py::gil_scoped_release nogil;
+          mesh = api::load_mesh(path);
+        } catch (const api::Error& e) {
+          rethrow_for_path(e, path);
+        }
+        FloatArray v({py::ssize_t(mesh.vertices.size() / 3), py::ssize_t(3)});
+        IdArray t({py::ssize_t(mesh.indices.size() / 3), py::ssize_t(3)});
+        std::copy(mesh.vertices.begin(), mesh.vertices.end(), v.mutable_data());
+        std::copy(mesh.indices.begin(), mesh.indices.end(), t.mutable_data());
+        return py::make_tuple(v, t);
+      },
+      py::arg("path"), "(vertices (N,3) float32, triangles (M,3) uint32) of a mesh file");
+}

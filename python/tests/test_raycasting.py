@@ -1,0 +1,230 @@
+"""The hprt Python module: Open3D's RaycastingScene API over hprt, numpy in
+and out, arrays read in place, every bad input a Python exception with the
+CLI's one-line message (never a crash)."""
+import math
+import os
+
+import numpy as np
+import pytest
+
+import hprt
+
+SOURCE = os.environ.get("HPRT_SOURCE_DIR", os.path.join(os.path.dirname(__file__), "..", ".."))
+
+
+def grid(n=8):
+    """An n x n grid of quads in the plane z = 0 over [-1, 1]^2."""
+    xs = np.linspace(-1.0, 1.0, n + 1, dtype=np.float32)
+    xv, yv = np.meshgrid(xs, xs)
+    vertices = np.stack([xv.ravel(), yv.ravel(), np.zeros(xv.size, np.float32)], axis=1)
+    tris = []
+    for j in range(n):
+        for i in range(n):
+            a = j * (n + 1) + i
+            tris += [[a, a + 1, a + n + 2], [a, a + n + 2, a + n + 1]]
+    return np.ascontiguousarray(vertices), np.array(tris, dtype=np.uint32)
+
+
+def down(x, y, z=2.0):
+    return [x, y, z, 0.0, 0.0, -1.0]
+
+
+@pytest.mark.parametrize("backend", ["bvh", "embree"])
+def test_cast_rays_shapes_dtypes_and_answers(backend):
+    scene = hprt.RaycastingScene(backend=backend)
+    v, t = grid()
+    assert scene.add_triangles(v, t) == 0
+    rays = np.array([[down(0.1, 0.2), down(3.0, 0.0)], [down(-0.5, 0.5), down(0.9, -0.9)]],
+                    dtype=np.float32)
+    ans = scene.cast_rays(rays)
+    assert set(ans) == {"t_hit", "geometry_ids", "primitive_ids", "primitive_uvs",
+                        "primitive_normals"}
+    assert ans["t_hit"].shape == (2, 2) and ans["t_hit"].dtype == np.float32
+    assert ans["geometry_ids"].dtype == np.uint32 and ans["primitive_ids"].dtype == np.uint32
+    assert ans["primitive_uvs"].shape == (2, 2, 2)
+    assert ans["primitive_normals"].shape == (2, 2, 3)
+    np.testing.assert_allclose(ans["t_hit"][0, 0], 2.0)
+    assert math.isinf(ans["t_hit"][0, 1])
+    assert ans["geometry_ids"][0, 1] == hprt.RaycastingScene.INVALID_ID
+    assert ans["primitive_ids"][0, 1] == hprt.INVALID_ID
+    assert ans["primitive_ids"][0, 0] < len(t)
+    np.testing.assert_allclose(np.abs(ans["primitive_normals"][0, 0]), [0, 0, 1])
+    np.testing.assert_array_equal(ans["primitive_normals"][0, 1], [0, 0, 0])
+    occ = scene.test_occlusions(rays)
+    assert occ.dtype == np.bool_ and occ.tolist() == [[True, False], [True, True]]
+    assert scene.test_occlusions(rays, tnear=0.0, tfar=1.5).tolist() == [[False, False]] * 2
+    info = scene.info()
+    assert info["triangles"] == len(t) and info["geometries"] == 1
+    assert info["backend"].startswith(backend)
+
+
+def test_any_array_like_and_dtype():
+    v, t = grid(4)
+    scene = hprt.RaycastingScene(nthreads=2)
+    scene.add_triangles(v.astype(np.float64).tolist(), t.astype(np.int64))
+    rays64 = np.array([down(0.25, 0.25)], dtype=np.float64)
+    a = scene.cast_rays(rays64)
+    b = scene.cast_rays([down(0.25, 0.25)], nthreads=1)
+    assert a["t_hit"].tolist() == b["t_hit"].tolist() == [2.0]
+    one = scene.cast_rays(np.array(down(0.25, 0.25), np.float32))  # a single ray: shape ()
+    assert one["t_hit"].shape == () and one["primitive_uvs"].shape == (2,)
+    empty = scene.cast_rays(np.zeros((0, 6), np.float32))
+    assert empty["t_hit"].shape == (0,)
+
+
+def test_nan_rays_miss_and_empty_scene():
+    scene = hprt.RaycastingScene()
+    v, t = grid(2)
+    scene.add_triangles(v, t)
+    rays = np.array([[math.nan, 0, 2, 0, 0, -1], [0, 0, 2, 0, 0, 0], [0, 0, 2, math.inf, 0, -1]],
+                    np.float32)
+    assert np.isinf(scene.cast_rays(rays)["t_hit"]).all()
+    assert not scene.test_occlusions(rays).any()
+    empty = hprt.RaycastingScene()
+    assert np.isinf(empty.cast_rays([down(0, 0)])["t_hit"]).all()
+    empty.add_triangles(np.zeros((0, 3), np.float32), np.zeros((0, 3), np.int32))
+    assert np.isinf(empty.cast_rays([down(0, 0)])["t_hit"]).all()
+    assert empty.info()["triangles"] == 0
+
+
+def test_arrays_are_used_in_place_and_update_triangles():
+    v, t = grid(8)
+    for update in ["refit", "rebuild", "adaptive"]:
+        scene = hprt.RaycastingScene(update=update)
+        gid = scene.add_triangles(v, t)
+        rays = np.array([down(0.3, -0.2)], np.float32)
+        assert scene.cast_rays(rays)["t_hit"][0] == pytest.approx(2.0)
+        moved = v.copy()
+        moved[:, 2] = -1.0
+        scene.update_triangles(gid, moved)
+        assert scene.cast_rays(rays)["t_hit"][0] == pytest.approx(3.0)
+        # The scene reads the float32 array in place: changing it in place and
+        # updating again with the same array moves the surface.
+        moved[:, 2] = 0.5
+        scene.update_triangles(gid, moved)
+        assert scene.cast_rays(rays)["t_hit"][0] == pytest.approx(1.5)
+
+
+def test_backend_options_and_plugins():
+    v, t = grid(4)
+    scene = hprt.RaycastingScene(builder="morton", layout="bvh4", leaf_size=2)
+    scene.add_triangles(v, t)
+    scene.cast_rays([down(0, 0)])
+    assert scene.info()["backend"] == "bvh/morton/watertight/bvh4"
+    robust = hprt.RaycastingScene(backend="embree", robust=True, quality="high")
+    robust.add_triangles(v, t)
+    assert robust.cast_rays([down(0.1, 0.1)])["t_hit"][0] == pytest.approx(2.0)
+    good = os.environ.get("HPRT_TEST_PLUGIN_GOOD")
+    if good:
+        p = hprt.RaycastingScene(backend="plugin:" + good)
+        p.add_triangles(v, t)
+        assert p.cast_rays([down(0.1, 0.1)])["t_hit"][0] == pytest.approx(2.0)
+        assert p.info()["backend"] == "plugin/test"
+
+
+def test_validate_rays():
+    v, t = grid(16)
+    scene = hprt.RaycastingScene()
+    scene.add_triangles(v, t)
+    rays = hprt.RaycastingScene.create_rays_pinhole(60, [0, 0, 0], [0.3, 0.2, 3], [0, 1, 0], 64,
+                                                    48)
+    r = hprt.validate_rays(scene, rays)
+    assert r["rays"] == 64 * 48 and r["backend_wrong"] == 0
+    assert r["verdicts"].shape == (48, 64) and r["verdicts"].dtype == np.uint8
+    assert "wrong on 0 rays: pass" in r["summary"]
+    assert hprt.validate_rays(scene, rays, reference="bvh")["mismatches"] == 0
+    lies = os.environ.get("HPRT_TEST_PLUGIN_MALFORMED")
+    if lies:
+        bad = hprt.RaycastingScene(backend="plugin:" + lies)
+        bad.add_triangles(v, t)
+        r = hprt.validate_rays(bad, rays)
+        assert r["backend_malformed"] > 100 and r["backend_wrong"] >= r["backend_malformed"]
+        assert "FAIL" in r["summary"]
+
+
+def test_create_rays_pinhole_forms_agree():
+    rays = hprt.RaycastingScene.create_rays_pinhole(fov_deg=90, center=[0, 0, 0], eye=[0, 0, 5],
+                                                    up=[0, 1, 0], width_px=8, height_px=6)
+    assert rays.shape == (6, 8, 6) and rays.dtype == np.float32
+    np.testing.assert_allclose(rays[..., :3], np.broadcast_to([0, 0, 5], (6, 8, 3)))
+    # The centre of the image looks at the centre point.
+    mid = (rays[2, 3, 3:] + rays[3, 4, 3:]) / 2
+    assert mid[2] < 0 and abs(mid[0]) < 1e-6 and abs(mid[1]) < 1e-6
+    f = 0.5 * 8 / math.tan(math.radians(45))
+    k = [[f, 0, 4], [0, f, 3], [0, 0, 1]]
+    ext = np.eye(4)
+    # Open3D's look-at: rows right = up x forward, up, forward (-z here).
+    ext[:3, :3] = [[-1, 0, 0], [0, 1, 0], [0, 0, -1]]
+    ext[:3, 3] = [0, 0, 5]
+    rays2 = hprt.RaycastingScene.create_rays_pinhole(k, ext, 8, 6)
+    np.testing.assert_allclose(rays2[..., :3], rays[..., :3], atol=1e-6)
+    np.testing.assert_allclose(rays2[..., 3:], rays[..., 3:], atol=1e-5)
+    with pytest.raises(hprt.Error, match="fov_deg"):
+        hprt.RaycastingScene.create_rays_pinhole(0, [0, 0, 0], [0, 0, 1], [0, 1, 0], 4, 4)
+
+
+def test_files_render_and_load_mesh(tmp_path):
+    obj = tmp_path / "tri.obj"
+    obj.write_text("v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n")
+    vertices, triangles = hprt.load_mesh(str(obj))
+    assert vertices.shape == (3, 3) and vertices.dtype == np.float32
+    assert triangles.tolist() == [[0, 1, 2]] and triangles.dtype == np.uint32
+    scene = hprt.RaycastingScene()
+    assert scene.add_triangles(obj) == 0  # a path (str or PathLike)
+    assert scene.cast_rays([down(0, 0)])["t_hit"][0] == pytest.approx(2.0)
+    img = hprt.render(str(obj), 32, 24, backend="embree")
+    assert img.shape == (24, 32, 3) and img.dtype == np.float32
+    same = hprt.render(str(obj), 32, 24)
+    assert np.abs(img - same).max() < 0.05
+    scene_json = os.path.join(SOURCE, "data", "scenes", "single_13mm.json")
+    if os.path.exists(scene_json):
+        assert hprt.render(scene_json, 40)[..., 0].shape == (30, 40)
+
+
+def test_bad_input_raises_with_the_cli_message(tmp_path):
+    scene = hprt.RaycastingScene()
+    v, t = grid(2)
+    with pytest.raises(ValueError, match="vertex_positions"):
+        scene.add_triangles(v[:, :2], t)
+    with pytest.raises(ValueError, match="triangle_indices"):
+        scene.add_triangles(v, t[:, :2])
+    with pytest.raises(ValueError, match="out of range"):
+        scene.add_triangles(v, t + 100)
+    with pytest.raises(ValueError, match="out of range"):
+        scene.add_triangles(v, -t.astype(np.int64) - 1)
+    with pytest.raises(TypeError):
+        scene.add_triangles(v, t.astype(np.float32))
+    with pytest.raises(TypeError):
+        scene.add_triangles(np.array([["a", "b", "c"]]), t)
+    with pytest.raises(TypeError):
+        scene.add_triangles(42)
+    with pytest.raises(ValueError, match="rays"):
+        scene.cast_rays(np.zeros((3, 5), np.float32))
+    with pytest.raises(TypeError):
+        scene.cast_rays(np.zeros((3, 6), np.complex64))
+    with pytest.raises(FileNotFoundError, match="nothing.obj"):
+        scene.add_triangles(str(tmp_path / "nothing.obj"))
+    with pytest.raises(FileNotFoundError):
+        hprt.load_mesh(str(tmp_path / "nothing.ply"))
+    bad = tmp_path / "bad.ply"
+    bad.write_bytes(b"ply\nformat binary_little_endian 1.0\nelement vertex 999999999999\nend_header\n")
+    with pytest.raises(hprt.Error, match="bad.ply"):
+        hprt.load_mesh(str(bad))
+    with pytest.raises(hprt.Error, match="leaf_size"):
+        hprt.RaycastingScene(leaf_size=0)
+    with pytest.raises(hprt.Error, match="unknown backend option"):
+        hprt.RaycastingScene(colour="red")
+    with pytest.raises(hprt.Error, match="unknown backend"):
+        hprt.RaycastingScene(backend="optix")
+    with pytest.raises(hprt.Error, match="plugin file not found"):
+        hprt.RaycastingScene(backend="plugin:/no/such/plugin.so")
+    with pytest.raises(hprt.Error, match="nthreads"):
+        hprt.RaycastingScene(nthreads=-1)
+    gid = scene.add_triangles(v, t)
+    with pytest.raises(hprt.Error, match="geometry_id"):
+        scene.update_triangles(gid + 5, v)
+    with pytest.raises(hprt.Error, match="vertex_positions"):
+        scene.update_triangles(gid, v[:2])
+    with pytest.raises(hprt.Error, match="unknown ray kind|reference|unknown backend"):
+        hprt.validate_rays(scene, [down(0, 0)], reference="nope")
+    assert issubclass(hprt.Error, RuntimeError)

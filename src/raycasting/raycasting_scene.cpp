@@ -1,0 +1,275 @@
+#include "raycasting/raycasting_scene.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <utility>
+#include <vector>
+
+namespace hprt::raycasting {
+namespace {
+
+constexpr float kInf = std::numeric_limits<float>::infinity();
+constexpr size_t kGrain = 4096;   // rays per task of the conversions
+constexpr size_t kChunk = 65536;  // rays per chunk of a query (cast_rays)
+
+// Runs f in an arena of `threads` (0 = every hardware thread).
+template <typename F>
+decltype(auto) in_arena(int threads, F&& f) {
+  tbb::task_arena arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
+  return arena.execute(std::forward<F>(f));
+}
+
+template <typename F>
+void parallel_rays(size_t n, F&& f) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kGrain),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t i = r.begin(); i != r.end(); ++i) f(i);
+                    });
+}
+
+void check_rays(std::span<const float> rays) {
+  if (rays.size() % 6 != 0) throw std::invalid_argument("rays: not 6 floats per ray");
+}
+
+}  // namespace
+
+RaycastingScene::RaycastingScene(int nthreads, const std::string& backend,
+                                 const api::Options& options)
+    : backend_name_(backend), options_(options) {
+  if (nthreads < 0) throw api::Error("nthreads: must be >= 0, got " + std::to_string(nthreads));
+  if (nthreads > 0) options_["threads"] = std::to_string(nthreads);
+  backend_.emplace(backend_name_, options_);  // bad names and options fail here, not later
+}
+
+uint32_t RaycastingScene::add_triangles(std::span<const float> vertices,
+                                        std::span<const uint32_t> indices, bool shared) {
+  const uint32_t id =
+      shared ? scene_.add_mesh_shared(vertices, indices) : scene_.add_mesh(vertices, indices);
+  stale_ = true;
+  only_moved_ = false;
+  return id;
+}
+
+uint32_t RaycastingScene::add_triangles(const std::string& path) {
+  const api::MeshArrays m = api::load_mesh(path);
+  return add_triangles(m.vertices, m.indices, /*shared=*/false);
+}
+
+void RaycastingScene::update_triangles(uint32_t id, std::span<const float> vertices,
+                                       bool /*shared*/) {
+  if (id >= scene_.mesh_count())
+    throw api::Error("geometry_id: no geometry " + std::to_string(id) + " (the scene has " +
+                     std::to_string(scene_.mesh_count()) + ")");
+  if (vertices.size() != 3 * scene_.vertex_count(id))
+    throw api::Error("vertex_positions: expected " + std::to_string(scene_.vertex_count(id)) +
+                     " vertices (as added), got " + std::to_string(vertices.size() / 3));
+  // A shared mesh shares the new array, a copied one copies it (Scene::set_vertices).
+  scene_.set_vertices(id, vertices);
+  if (!stale_) only_moved_ = true;
+  stale_ = true;
+}
+
+api::Backend& RaycastingScene::built() {
+  if (stale_) {
+    if (only_moved_)
+      backend_->update(scene_);
+    else
+      backend_->build(scene_);
+    stale_ = false;
+    only_moved_ = false;
+  }
+  return *backend_;
+}
+
+void RaycastingScene::convert(std::span<const float> rays, float tnear, float tfar, api::Ray* out) {
+  parallel_rays(rays.size() / 6, [&](size_t i) {
+    const float* r = rays.data() + 6 * i;
+    out[i] = {r[0], r[1], r[2], tnear, r[3], r[4], r[5], tfar};
+  });
+}
+
+namespace {
+
+// The geometric normal (b - a) x (c - a) of a hit's triangle, unit length
+// (computed in double), written to n[0..2]; zero for a degenerate triangle.
+void unit_normal(const api::Scene& scene, const api::Hit& h, float* n) {
+  const std::span<const float> v = scene.vertices(h.geom_id);
+  const std::span<const uint32_t> t = scene.indices(h.geom_id);
+  const size_t tri = 3 * size_t(h.prim_id);
+  const float* a = &v[3 * size_t(t[tri])];
+  const float* b = &v[3 * size_t(t[tri + 1])];
+  const float* c = &v[3 * size_t(t[tri + 2])];
+  const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
+  const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
+  const double x = e1[1] * e2[2] - e1[2] * e2[1];
+  const double y = e1[2] * e2[0] - e1[0] * e2[2];
+  const double z = e1[0] * e2[1] - e1[1] * e2[0];
+  const double len = std::sqrt(x * x + y * y + z * z);
+  n[0] = n[1] = n[2] = 0.0f;
+  if (len > 0.0) n[0] = float(x / len), n[1] = float(y / len), n[2] = float(z / len);
+}
+
+}  // namespace
+
+// Rays go through in chunks: each is converted into a reused buffer, traced
+// (in parallel inside the backend) and written out, so a call touches a few
+// MB of scratch memory instead of allocating the whole batch twice.
+void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads) {
+  check_rays(rays);
+  api::Backend& b = built();
+  const auto run = [&] {
+    const size_t n = rays.size() / 6;
+    std::vector<api::Ray> r(std::min(n, kChunk));
+    std::vector<api::Hit> hits(r.size());
+    for (size_t begin = 0; begin < n; begin += kChunk) {
+      const size_t count = std::min(kChunk, n - begin);
+      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.data());
+      b.intersect({r.data(), count}, {hits.data(), count});
+      parallel_rays(count, [&](size_t k) {
+        const api::Hit& h = hits[k];
+        const size_t i = begin + k;
+        const bool hit = h.prim_id != api::kInvalidId;
+        out.t_hit[i] = hit ? h.t : kInf;
+        out.geometry_ids[i] = hit ? h.geom_id : api::kInvalidId;
+        out.primitive_ids[i] = hit ? h.prim_id : api::kInvalidId;
+        out.primitive_uvs[2 * i] = hit ? h.u : 0.0f;
+        out.primitive_uvs[2 * i + 1] = hit ? h.v : 0.0f;
+        float* normal = out.primitive_normals + 3 * i;
+        if (hit)
+          unit_normal(scene_, h, normal);
+        else
+          normal[0] = normal[1] = normal[2] = 0.0f;
+      });
+    }
+  };
+  nthreads > 0 ? in_arena(nthreads, run) : run();
+}
+
+void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, float tfar,
+                                      uint8_t* occluded, int nthreads) {
+  check_rays(rays);
+  api::Backend& b = built();
+  const auto run = [&] {
+    const size_t n = rays.size() / 6;
+    std::vector<api::Ray> r(std::min(n, kChunk));
+    for (size_t begin = 0; begin < n; begin += kChunk) {
+      const size_t count = std::min(kChunk, n - begin);
+      convert(rays.subspan(6 * begin, 6 * count), tnear, tfar, r.data());
+      b.occluded({r.data(), count}, {occluded + begin, count});
+    }
+  };
+  nthreads > 0 ? in_arena(nthreads, run) : run();
+}
+
+api::DiffReport RaycastingScene::validate_rays(std::span<const float> rays,
+                                               const std::string& reference) {
+  api::Backend& b = built();
+  api::Backend ref(reference);
+  ref.build(scene_);
+  check_rays(rays);
+  std::vector<api::Ray> r(rays.size() / 6);
+  convert(rays, 0.0f, kInf, r.data());
+  return api::diff(scene_, b, ref, r);
+}
+
+SceneInfo RaycastingScene::info() const {
+  SceneInfo i;
+  i.meshes = scene_.mesh_count();
+  i.triangles = scene_.triangle_count();
+  if (!stale_ || only_moved_) {
+    const api::BackendInfo b = backend_->info();
+    i.backend = b.name;
+    i.build_ms = b.build_ms;
+    i.memory_bytes = b.memory_bytes;
+    i.malformed_answers = b.malformed_answers;
+  }
+  return i;
+}
+
+namespace {
+
+// Rays through pixel centres: origin `eye`, direction M * (x + 0.5, y + 0.5, 1)
+// with M = R^T K^-1 (camera to world), not normalised (as Open3D's).
+std::vector<float> pinhole_rays(const double m[3][3], const double eye[3], int w, int h) {
+  if (w <= 0 || h <= 0) throw api::Error("width_px, height_px: must be positive");
+  std::vector<float> rays(size_t(w) * size_t(h) * 6);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const double p[3] = {x + 0.5, y + 0.5, 1.0};
+      float* r = &rays[(size_t(y) * size_t(w) + size_t(x)) * 6];
+      for (int k = 0; k < 3; ++k) {
+        r[k] = float(eye[k]);
+        r[3 + k] = float(m[k][0] * p[0] + m[k][1] * p[1] + m[k][2] * p[2]);
+      }
+    }
+  return rays;
+}
+
+double norm3(const double v[3]) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+}  // namespace
+
+std::vector<float> create_rays_pinhole(const double intrinsic[9], const double extrinsic[16],
+                                       int width_px, int height_px) {
+  // K^-1 for K = [[fx, s, cx], [0, fy, cy], [0, 0, 1]] (row-major).
+  const double fx = intrinsic[0], s = intrinsic[1], cx = intrinsic[2], fy = intrinsic[4],
+               cy = intrinsic[5];
+  if (!(fx != 0.0 && fy != 0.0) || intrinsic[3] != 0.0 || intrinsic[6] != 0.0 ||
+      intrinsic[7] != 0.0 || intrinsic[8] != 1.0)
+    throw api::Error(
+        "intrinsic_matrix: expected [[fx, s, cx], [0, fy, cy], [0, 0, 1]], fx, fy != 0");
+  const double kinv[3][3] = {{1.0 / fx, -s / (fx * fy), (s * cy - cx * fy) / (fx * fy)},
+                             {0.0, 1.0 / fy, -cy / fy},
+                             {0.0, 0.0, 1.0}};
+  // Extrinsic [R t; 0 1] maps world to camera: camera centre -R^T t, M = R^T K^-1.
+  double m[3][3], eye[3];
+  for (int i = 0; i < 3; ++i) {
+    eye[i] = 0.0;
+    for (int k = 0; k < 3; ++k) eye[i] -= extrinsic[4 * k + i] * extrinsic[4 * k + 3];
+    for (int j = 0; j < 3; ++j) {
+      m[i][j] = 0.0;
+      for (int k = 0; k < 3; ++k) m[i][j] += extrinsic[4 * k + i] * kinv[k][j];
+    }
+  }
+  return pinhole_rays(m, eye, width_px, height_px);
+}
+
+std::vector<float> create_rays_pinhole(double fov_deg, const double center[3], const double eye[3],
+                                       const double up[3], int width_px, int height_px) {
+  if (!(fov_deg > 0.0 && fov_deg < 180.0))
+    throw api::Error("fov_deg: must be in (0, 180), got " + std::to_string(fov_deg));
+  if (width_px <= 0 || height_px <= 0) throw api::Error("width_px, height_px: must be positive");
+  const double f = 0.5 * width_px / std::tan(0.5 * fov_deg * M_PI / 180.0);
+  const double k[9] = {f, 0.0, 0.5 * width_px, 0.0, f, 0.5 * height_px, 0.0, 0.0, 1.0};
+  // Rows of R: right, down-facing up, forward (Open3D's look-at convention).
+  double r[3][3];
+  const double fwd[3] = {center[0] - eye[0], center[1] - eye[1], center[2] - eye[2]};
+  const double fn = norm3(fwd), un = norm3(up);
+  if (!(fn > 0.0) || !(un > 0.0)) throw api::Error("center, eye, up: eye == center or up == 0");
+  for (int i = 0; i < 3; ++i) r[2][i] = fwd[i] / fn, r[1][i] = up[i] / un;
+  auto cross = [](const double a[3], const double b[3], double out[3]) {
+    out[0] = a[1] * b[2] - a[2] * b[1];
+    out[1] = a[2] * b[0] - a[0] * b[2];
+    out[2] = a[0] * b[1] - a[1] * b[0];
+  };
+  cross(r[1], r[2], r[0]);
+  const double rn = norm3(r[0]);
+  if (!(rn > 0.0)) throw api::Error("up: parallel to the view direction");
+  for (double& x : r[0]) x /= rn;
+  cross(r[2], r[0], r[1]);
+  double e[16] = {0};
+  for (int i = 0; i < 3; ++i) {
+    for (int j = 0; j < 3; ++j) e[4 * i + j] = r[i][j];
+    e[4 * i + 3] = -(r[i][0] * eye[0] + r[i][1] * eye[1] + r[i][2] * eye[2]);
+  }
+  e[15] = 1.0;
+  return create_rays_pinhole(k, e, width_px, height_px);
+}
+
+}  // namespace hprt::raycasting

@@ -1,0 +1,92 @@
+// Open3D's RaycastingScene (open3d.t.geometry.RaycastingScene) over hprt's
+// public API: the semantics the Python module's `hprt.RaycastingScene`
+// exposes, on plain arrays, so that the bindings only convert numpy arrays.
+// Rays are Open3D's 6 floats [ox, oy, oz, dx, dy, dz] with the interval
+// [0, inf) (test_occlusions: [tnear, tfar]); ids are uint32 with
+// kInvalidId on a miss. The backend is built on the first query after a
+// change, as Open3D builds its scene.
+#pragma once
+
+#include <hprt/hprt.h>
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+namespace hprt::raycasting {
+
+// Where cast_rays writes, n rays each: t (inf on a miss), geometry and
+// primitive ids, u, v (2 per ray) and the unit geometric normal (3 per ray,
+// zero on a miss).
+struct CastOutput {
+  float* t_hit;
+  uint32_t* geometry_ids;
+  uint32_t* primitive_ids;
+  float* primitive_uvs;
+  float* primitive_normals;
+};
+
+struct SceneInfo {
+  std::string backend;  // configuration name, "" before the first build
+  double build_ms = 0.0;
+  size_t memory_bytes = 0;
+  size_t meshes = 0, triangles = 0;
+  uint64_t malformed_answers = 0;
+};
+
+class RaycastingScene {
+ public:
+  // backend and options as hprt::api::Backend takes them; nthreads as
+  // Open3D's (0 = every hardware thread). Throws api::Error.
+  RaycastingScene(int nthreads, const std::string& backend, const api::Options& options);
+
+  // The arrays are shared when `shared` (the caller keeps them alive and
+  // unchanged, as the Python module does for float32/uint32 C-contiguous
+  // arrays), else copied. Returns the geometry id.
+  uint32_t add_triangles(std::span<const float> vertices, std::span<const uint32_t> indices,
+                         bool shared);
+  uint32_t add_triangles(const std::string& path);
+  // Moves geometry `id`'s vertices (same count); the next query updates the
+  // backend (refit or rebuild per its update option). A geometry added
+  // shared shares `vertices` (kept alive by the caller), else copies them.
+  void update_triangles(uint32_t id, std::span<const float> vertices, bool shared);
+
+  // rays: 6 floats per ray. nthreads > 0 runs the call in that many threads
+  // when the scene was made with nthreads 0 (else the scene's count holds).
+  void cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads);
+  void test_occlusions(std::span<const float> rays, float tnear, float tfar, uint8_t* occluded,
+                       int nthreads);
+  // The exact diff of this scene's backend against `reference` (a backend
+  // spec) on the rays (6 floats each).
+  api::DiffReport validate_rays(std::span<const float> rays, const std::string& reference);
+
+  SceneInfo info() const;
+  const api::Scene& scene() const { return scene_; }
+
+ private:
+  api::Backend& built();  // the backend, built or updated over the scene's current state
+  // 6 floats per ray to hprt's records with the interval [tnear, tfar].
+  static void convert(std::span<const float> rays, float tnear, float tfar, api::Ray* out);
+
+  api::Scene scene_;
+  std::string backend_name_;
+  api::Options options_;
+  std::optional<api::Backend> backend_;
+  bool stale_ = true;        // the scene changed since the last build
+  bool only_moved_ = false;  // ... and only by update_triangles (update, not build)
+};
+
+// Open3D's create_rays_pinhole: rays (height, width, 6) from the camera at
+// `eye` looking at `center` with `up` and a horizontal field of view.
+std::vector<float> create_rays_pinhole(double fov_deg, const double center[3], const double eye[3],
+                                       const double up[3], int width_px, int height_px);
+// The same from a 3x3 intrinsic matrix K and a 4x4 world-to-camera
+// extrinsic matrix (row-major), pixel centres at (x + 0.5, y + 0.5).
+std::vector<float> create_rays_pinhole(const double intrinsic[9], const double extrinsic[16],
+                                       int width_px, int height_px);
+
+}  // namespace hprt::raycasting
