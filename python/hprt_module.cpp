@@ -247,7 +247,7 @@ PYBIND11_MODULE(hprt, m) {
            "closest hits of (..., 6) rays [ox, oy, oz, dx, dy, dz]")
       .def("test_occlusions", &test_occlusions, py::arg("rays"), py::arg("tnear") = 0.0f,
            py::arg("tfar") = std::numeric_limits<float>::infinity(), py::arg("nthreads") = 0,
-           "whether anything is hit in [tnear, tfar] along each ray")
+           "whether anything is hit with t in (tnear, tfar] along each ray")
       .def("info", &info, "backend configuration, build time, memory, geometry counts")
       .def_static(
           "create_rays_pinhole",

@@ -12,8 +12,10 @@
 // Errors: every function throws hprt::api::Error carrying the one-line
 // message the command line prints ("path: problem" for files, "key: problem"
 // for options), std::invalid_argument for a programming error (a span of
-// the wrong size, a query before build()), and std::bad_alloc when memory
-// runs out.
+// the wrong size, an unknown geom_id), std::logic_error for a query before
+// build() on the embree and plugin backends (the bvh backend answers
+// misses), std::runtime_error when Embree itself fails, and std::bad_alloc
+// when memory runs out.
 //
 // Threads: a Backend built with the option threads=N runs its build and
 // queries in a pool of N threads (0 = every hardware thread); without it,
@@ -56,6 +58,8 @@ class HPRT_API Error : public std::runtime_error {
 // ids kInvalidId. Semantics are Embree 3's: closest hit with t in
 // (tnear, tfar], double-sided triangles; rays with a NaN, infinite or
 // too-large component, a zero direction, tnear < 0 or tnear > tfar miss.
+// A plugin's malformed hit comes back as a miss with t = NaN (counted in
+// BackendInfo::malformed_answers; <hprt/plugin.h> says what is malformed).
 using Ray = hprt_ray;
 using Hit = hprt_hit;
 inline constexpr uint32_t kInvalidId = 0xFFFFFFFFu;
@@ -75,9 +79,10 @@ class HPRT_API Scene {
   static Scene from_file(const std::string& path);
 
   // Adds a mesh: xyz per vertex (vertices.size() = 3 * vertex count) and
-  // three indices per triangle. The arrays are copied. Indices out of range,
-  // non-finite vertices and zero-area triangles are kept and never hit.
-  // Returns the mesh's geom_id.
+  // three indices per triangle. The arrays are copied. An index out of
+  // range throws Error; non-finite vertices and zero-area triangles are
+  // kept and never hit. The scene's camera is reset to frame all its meshes
+  // from +z (also for a scene from a file). Returns the mesh's geom_id.
   uint32_t add_mesh(std::span<const float> vertices, std::span<const uint32_t> indices);
 
   // The same without a copy: the scene keeps pointers to the caller's arrays,
@@ -89,7 +94,9 @@ class HPRT_API Scene {
   uint32_t add_mesh_shared(std::span<const float> vertices, std::span<const uint32_t> indices);
 
   // Moves the vertices of mesh geom_id (same vertex count): a deformed
-  // frame. Backends built over the scene see it after their update(). A
+  // frame. Call update() on the backends built over the scene before their
+  // next query (until then their answers are undefined: the embree backend
+  // may read the new vertices against its old tree). A
   // shared mesh then shares `vertices` instead of its old array; any other
   // mesh copies them.
   void set_vertices(uint32_t geom_id, std::span<const float> vertices);
@@ -122,10 +129,10 @@ class HPRT_API Scene {
 using Options = std::map<std::string, std::string>;
 
 struct BackendInfo {
-  std::string name;                // configuration, e.g. "bvh/parallel/watertight", "embree/medium"
-  double build_ms = 0.0;           // the last build() or update()
-  size_t memory_bytes = 0;         // the acceleration structure (0 when a plugin does not say)
-  bool rebuilt = true;             // update(): rebuilt rather than refitted
+  std::string name;         // configuration, e.g. "bvh/parallel/watertight", "embree/medium"
+  double build_ms = 0.0;    // the last build() or update()
+  size_t memory_bytes = 0;  // the acceleration structure (0 for plugins: ABI v1 has no report)
+  bool rebuilt = true;      // update(): rebuilt rather than refitted
   uint64_t malformed_answers = 0;  // plugins: answers that failed hprt's checks so far
 };
 
@@ -143,7 +150,9 @@ class HPRT_API Backend {
   // Builds over the scene, which must outlive the backend's queries (the
   // embree backend shares its vertex arrays).
   void build(const Scene& scene);
-  // After Scene::set_vertices: refits or rebuilds per the update option.
+  // After Scene::set_vertices: bvh refits or rebuilds per the update option,
+  // embree refits with quality=refit and rebuilds otherwise, a plugin runs
+  // its update() (or build()). A changed set of meshes means a full build.
   void update(const Scene& scene);
 
   // hits.size() and occluded.size() must be at least rays.size().

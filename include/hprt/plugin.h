@@ -13,7 +13,8 @@
  *    to build(); u, v are the barycentrics of vertices 1 and 2 of the triangle
  *    (the hit point is (1-u-v)*v0 + u*v1 + v*v2);
  *  - a miss has t = +inf and geom_id = prim_id = 0xFFFFFFFF (u, v unused);
- *  - rays with a NaN or infinite component, a zero direction, tnear < 0 or not
+ *  - rays with a NaN or infinite component, a component of magnitude above
+ *    1.844e18 (Embree's FLT_LARGE), a zero direction, tnear < 0 or not
  *    tnear <= tfar miss (occluded = 0);
  *  - triangles with an index out of range, a non-finite vertex or zero area
  *    are never hit.
@@ -23,19 +24,24 @@
  * called), so a plugin needs no thread pool of its own; both must be safe to
  * call concurrently on one built backend. create(), build(), update() and
  * destroy() are never called concurrently with anything on the same backend.
- * `threads` in create() is the number of threads hprt will call from (0 =
- * every hardware thread); a plugin may use it to size its own build.
+ * `threads` in create() is the thread count the user asked for (0 = every
+ * hardware thread); a plugin may use it to size its own build.
  *
- * Memory: the arrays in hprt_mesh belong to hprt and stay valid and unchanged
- * from build() (or update()) until the next update(), build() or destroy();
- * a plugin may keep pointers into them instead of copying.
+ * Memory: the arrays in hprt_mesh belong to hprt and stay valid from build()
+ * (or update()) until the next build() or destroy(); a plugin may keep
+ * pointers into them instead of copying. For a deformed frame hprt may write
+ * the new vertices into those same arrays before it calls update(), so a
+ * plugin must not use them between the end of a query batch and update().
+ * update() gets the same meshes as the last build() (same counts and
+ * indices); when they differ, hprt calls build() instead.
  *
  * Trust: hprt checks every answer. A hit with t not finite or outside
- * [tnear, tfar], an id out of range, or u, v outside the triangle, and an
- * occlusion byte other than 0 or 1, is malformed: `hprt validate rays`
- * counts it as wrong, and every other command treats it as a miss (resp. as
- * occluded). A plugin runs inside hprt's process: a plugin that crashes or
- * corrupts memory takes hprt down with it, as any in-process plugin would.
+ * (tnear, tfar], on a ray that must miss, with an id out of range, or with
+ * u, v outside the triangle, and an occlusion byte other than 0 or 1, is
+ * malformed: `hprt validate rays` and `hprt bench frontier` count it as
+ * wrong; every other command treats a malformed hit as a miss (reported
+ * with t = NaN) and a malformed byte as occluded. A plugin runs inside hprt's process: a plugin
+ * that crashes or corrupts memory takes hprt down with it, as any in-process plugin would.
  *
  * Errors: create(), build() and update() report failure (NULL resp. nonzero)
  * with a one-line message written into `error` (at most error_size bytes,

@@ -55,6 +55,11 @@ void check_mesh_arrays(std::span<const float> vertices, std::span<const uint32_t
     throw std::invalid_argument("add_mesh: vertices.size() is not a multiple of 3");
   if (indices.size() % 3 != 0)
     throw std::invalid_argument("add_mesh: indices.size() is not a multiple of 3");
+  const size_t n = vertices.size() / 3;
+  for (size_t i = 0; i < indices.size(); ++i)
+    if (indices[i] >= n)
+      throw Error("add_mesh: triangle " + std::to_string(i / 3) + " references vertex " +
+                  std::to_string(indices[i]) + " of " + std::to_string(n));
 }
 
 static_assert(sizeof(Vec3f) == 3 * sizeof(float) && sizeof(Vec3u) == 3 * sizeof(uint32_t));

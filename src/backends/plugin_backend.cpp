@@ -18,6 +18,7 @@
 #include <cstddef>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
@@ -98,8 +99,10 @@ class PluginIntersector final : public Intersector {
     info_.rebuilt = true;
   }
 
+  // The plugin's update() only for the meshes of the last build with moved
+  // vertices (plugin.h); anything else is built again.
   void update(const Scene& scene) override {
-    if (!table_->update) return build(scene);
+    if (!table_->update || !same_meshes(scene)) return build(scene);
     call_build(scene, table_->update, "update");
     info_.rebuilt = false;
   }
@@ -172,11 +175,23 @@ class PluginIntersector final : public Intersector {
     const int rc = fn(backend_, meshes.data(), uint32_t(meshes.size()), err.data(), err.size());
     info_.build_ms = ms_since(start);
     err.back() = '\0';
+    built_counts_.clear();
     if (rc != 0) {
       scene_ = nullptr;
       throw InputError(path_, std::string(what) + " failed: " + plugin_message(err));
     }
     scene_ = &scene;
+    for (const TriangleMesh& m : scene.meshes)
+      built_counts_.emplace_back(m.vertex_count(), m.triangle_count());
+  }
+
+  bool same_meshes(const Scene& scene) const {
+    if (!scene_ || scene.meshes.size() != built_counts_.size()) return false;
+    for (size_t i = 0; i < built_counts_.size(); ++i)
+      if (built_counts_[i] !=
+          std::pair(scene.meshes[i].vertex_count(), scene.meshes[i].triangle_count()))
+        return false;
+    return true;
   }
 
   std::string path_;
@@ -185,6 +200,8 @@ class PluginIntersector final : public Intersector {
   const Scene* scene_ =
       nullptr;  // answers are checked against it; outlives the build (as Embree's shared buffers)
   BuildInfo info_;
+  std::vector<std::pair<size_t, size_t>>
+      built_counts_;  // vertices, triangles per mesh at the last build
   mutable std::atomic<uint64_t> malformed_{0};
 };
 

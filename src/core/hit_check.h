@@ -1,5 +1,6 @@
 // What an answer must be to be trusted, whichever backend gave it: a hit
-// with t finite and inside the ray's [tnear, tfar], ids naming a triangle of
+// on a valid ray (core/ray.h) with t finite and in the ray's (tnear, tfar]
+// (Embree's interval), ids naming a triangle of
 // the scene and barycentrics inside that triangle (to float rounding); a
 // miss with both ids invalid. The plugin backend checks every answer with
 // it and the ray diff counts a failure as a wrong answer.
@@ -20,9 +21,10 @@ inline constexpr float kBarycentricSlack = 1e-5f;
 
 inline bool hit_well_formed(const Scene& scene, const Ray& ray, const Hit& h) {
   if (!h.hit()) return h.geom_id == kInvalidId && !std::isnan(h.t);
+  if (!ray_valid(ray)) return false;  // such rays miss on every backend
   if (h.geom_id >= scene.meshes.size()) return false;
   if (h.prim_id >= scene.meshes[h.geom_id].triangle_count()) return false;
-  if (!(std::isfinite(h.t) && h.t >= ray.tnear && h.t <= ray.tfar)) return false;
+  if (!(std::isfinite(h.t) && h.t > ray.tnear && h.t <= ray.tfar)) return false;
   return h.u >= -kBarycentricSlack && h.v >= -kBarycentricSlack &&
          h.u + h.v <= 1.0f + kBarycentricSlack;  // false for NaN too
 }

@@ -2,7 +2,7 @@
 // public API: the semantics the Python module's `hprt.RaycastingScene`
 // exposes, on plain arrays, so that the bindings only convert numpy arrays.
 // Rays are Open3D's 6 floats [ox, oy, oz, dx, dy, dz] with the interval
-// [0, inf) (test_occlusions: [tnear, tfar]); ids are uint32 with
+// (0, inf) (test_occlusions: (tnear, tfar]); ids are uint32 with
 // kInvalidId on a miss. The backend is built on the first query after a
 // change, as Open3D builds its scene.
 #pragma once
@@ -69,7 +69,7 @@ class RaycastingScene {
 
  private:
   api::Backend& built();  // the backend, built or updated over the scene's current state
-  // 6 floats per ray to hprt's records with the interval [tnear, tfar].
+  // 6 floats per ray to hprt's records with the interval tnear, tfar.
   static void convert(std::span<const float> rays, float tnear, float tfar, api::Ray* out);
 
   api::Scene scene_;

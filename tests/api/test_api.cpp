@@ -121,6 +121,9 @@ TEST(Api, UpdateSeesMovedVertices) {
     scene.set_vertices(0, g.vertices);
   }
   EXPECT_THROW(scene.set_vertices(0, std::vector<float>(3)), std::invalid_argument);
+  const std::vector<uint32_t> bad = {0, 1, 99};
+  EXPECT_EQ(error_of([&] { scene.add_mesh(g.vertices, bad); }),
+            "add_mesh: triangle 0 references vertex 99 of 25");
 }
 
 TEST(Api, DiffOfTwoBackendsAndAPluginThatLies) {
