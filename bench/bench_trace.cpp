@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <iterator>
 #include <memory>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,7 @@
 #include "bench/bench_inputs.h"
 #include "bench/bench_timing.h"
 #include "bench/trace_suite.h"
+#include "bvh/intersect/ray_triangle_exact.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "meshgen/mesh_generators.h"
@@ -115,7 +117,8 @@ Table make_rays_table() {
                 {"embree_min_ms", 2},
                 {"embree_max_ms", 2},
                 {"embree_mrays_per_s", 2},
-                {"bvh_over_embree", 3}});
+                {"bvh_over_embree", 3},
+                {"bvh_exact_per_mray", 1}});
 }
 
 struct RenderRow {
@@ -211,30 +214,52 @@ void add_render_rows(Table& render, const BenchInput& in, const RenderGrid& rr,
         }
 }
 
-// The batch query of `set` (any hit for shadow rays, closest hit otherwise)
-// through bvh and embree, their repetitions alternating so load changes on a
-// shared machine hit both alike.
-std::vector<TimingStats> time_query(const std::vector<Ray>& set, bool occ, const Intersector& bvh,
-                                    const Intersector& embree, int reps) {
-  std::vector<Hit> hits(set.size());
-  std::vector<uint8_t> occluded(set.size());
-  auto trace = [&](const Intersector* b) {
-    return timed_sample([&, b] {
-      if (occ)
-        b->occluded(set, occluded);
-      else
-        b->intersect(set, hits);
-    });
-  };
-  return run_round_robin({{reps, trace(&bvh)}, {reps, trace(&embree)}});
+struct QueryTimes {
+  TimingStats bvh, embree;
+  double exact_per_ray = 0.0;  // triangle tests decided in exact arithmetic (bvh side)
+};
+
+enum class Query { kClosest, kAny, kCount };
+const char* to_string(Query q) {
+  return q == Query::kAny ? "occluded" : q == Query::kCount ? "count" : "intersect";
 }
 
-void add_ray_row(Table& rays, const std::string& scene_label, RayKind kind, size_t n, int threads,
-                 int reps, const TimingStats& tb, const TimingStats& te) {
+// The batch query of `set` (any hit for shadow rays, closest hit otherwise,
+// crossing counts on the random rays) through bvh and embree, their
+// repetitions alternating so load changes on a shared machine hit both alike.
+QueryTimes time_query(const std::vector<Ray>& set, Query query, const Intersector& bvh,
+                      const Intersector& embree, int reps) {
+  std::vector<Hit> hits(set.size());
+  std::vector<uint8_t> occluded(set.size());
+  std::vector<uint32_t> counts(set.size());
+  auto run = [&](const Intersector* b) {
+    switch (query) {
+      case Query::kAny:
+        return b->occluded(set, occluded);
+      case Query::kCount:
+        return b->count(set, counts);
+      case Query::kClosest:
+        break;
+    }
+    b->intersect(set, hits);
+  };
+  // Embree makes its filter-enabled scene on the first count: not timed.
+  if (query == Query::kCount)
+    for (const Intersector* b : {&bvh, &embree}) b->count(std::span(set).first(1), counts);
+  auto trace = [&](const Intersector* b) { return timed_sample([&, b] { run(b); }); };
+  const uint64_t exact_before = exact_fallback_count();
+  const std::vector<TimingStats> t = run_round_robin({{reps, trace(&bvh)}, {reps, trace(&embree)}});
+  const double runs = double(t[0].repetitions) * double(set.size());
+  return {t[0], t[1], runs > 0 ? double(exact_fallback_count() - exact_before) / runs : 0.0};
+}
+
+void add_ray_row(Table& rays, const std::string& scene_label, RayKind kind, Query query, size_t n,
+                 int threads, int reps, const QueryTimes& q) {
+  const TimingStats &tb = q.bvh, &te = q.embree;
   auto row = rays.new_row();
   row.set("scene", scene_label)
       .set("ray_kind", std::string(to_string(kind)))
-      .set("query", kind == RayKind::kShadow ? "occluded" : "intersect")
+      .set("query", to_string(query))
       .set("rays", n)
       .set("threads", threads)
       .set("reps", reps)
@@ -247,6 +272,7 @@ void add_ray_row(Table& rays, const std::string& scene_label, RayKind kind, size
       .set("embree_max_ms", te.max_ms)
       .set("embree_mrays_per_s", mrays(n, te.median_ms));
   if (tb.median_ms > 0) row.set("bvh_over_embree", te.median_ms / tb.median_ms);
+  row.set("bvh_exact_per_mray", q.exact_per_ray * 1e6);
 }
 
 // Mrays/s of every ray kind at one thread count, the same ray set (seed 1)
@@ -269,9 +295,13 @@ MemoryRow time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t 
     embree->build(in.scene);
     for (RayKind kind : kKinds) {
       const std::vector<Ray> set = make_rays(in.scene, kind, n_rays, 1, embree.get());
-      const std::vector<TimingStats> t =
-          time_query(set, kind == RayKind::kShadow, *bvh, *embree, reps);
-      add_ray_row(rays, in.label, kind, set.size(), threads, reps, t[0], t[1]);
+      const Query query = kind == RayKind::kShadow ? Query::kAny : Query::kClosest;
+      add_ray_row(rays, in.label, kind, query, set.size(), threads, reps,
+                  time_query(set, query, *bvh, *embree, reps));
+      // Crossing counts (every hit along the ray) on the same random rays.
+      if (kind == RayKind::kRandom && ours.backend == "bvh")
+        add_ray_row(rays, in.label, kind, Query::kCount, set.size(), threads, reps,
+                    time_query(set, Query::kCount, *bvh, *embree, reps));
       progress.advance();
     }
     const double tris = double(in.scene.triangle_count());
@@ -323,8 +353,13 @@ void add_notes(BenchReport& report, Table& render, Table& rays,
       "camera rays in scanline order; "
       "shadow = from primary hits to light 0 (any-hit); reflection = mirror rays at "
       "primary hits; diffuse = cosine-weighted bounce rays at primary hits (a path tracer's "
-      "incoherent secondary rays); random = incoherent origins and directions. Scenes and the "
-      "large-mesh suite (rows named bumpy-, soup-, sheet- and by mesh file) alike.");
+      "incoherent secondary rays); random = incoherent origins and directions; query count = "
+      "the crossings along each random ray (every hit, Intersector::count; embree: a context "
+      "filter function that records and rejects each hit). Scenes and the "
+      "large-mesh suite (rows named bumpy-, soup-, sheet- and by mesh file) alike. "
+      "bvh_exact_per_mray = triangle tests of the bvh backend's watertight test whose edge "
+      "function signs its double error bound could not decide and exact arithmetic did, per "
+      "million rays (rays exactly through or within about 1e-15 of an edge or vertex).");
 }
 
 }  // namespace

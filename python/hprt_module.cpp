@@ -128,6 +128,42 @@ py::array test_occlusions(PyScene& s, const py::handle& rays_in, float tnear, fl
   return occluded;
 }
 
+py::array count_intersections(PyScene& s, const py::handle& rays_in, int nthreads) {
+  const FloatArray rays = float_array(rays_in, "rays", 6);
+  py::array_t<int32_t> counts(leading(rays));
+  {
+    py::gil_scoped_release nogil;
+    s.scene->count_intersections({rays.data(), size_t(rays.size())}, counts.mutable_data(),
+                                 nthreads);
+  }
+  return counts;
+}
+
+template <typename T>
+py::array_t<T> to_array(std::vector<T>&& v, std::vector<py::ssize_t> shape) {
+  auto* kept = new std::vector<T>(std::move(v));
+  py::capsule owner(kept, [](void* p) { delete static_cast<std::vector<T>*>(p); });
+  return py::array_t<T>(shape, kept->data(), owner);
+}
+
+py::dict list_intersections(PyScene& s, const py::handle& rays_in, int nthreads) {
+  const FloatArray rays = float_array(rays_in, "rays", 6);
+  rc::IntersectionLists l;
+  {
+    py::gil_scoped_release nogil;
+    l = s.scene->list_intersections({rays.data(), size_t(rays.size())}, nthreads);
+  }
+  const auto n = py::ssize_t(l.t_hit.size()), splits = py::ssize_t(l.ray_splits.size());
+  py::dict d;
+  d["ray_splits"] = to_array(std::move(l.ray_splits), {splits});
+  d["ray_ids"] = to_array(std::move(l.ray_ids), {n});
+  d["geometry_ids"] = to_array(std::move(l.geometry_ids), {n});
+  d["primitive_ids"] = to_array(std::move(l.primitive_ids), {n});
+  d["primitive_uvs"] = to_array(std::move(l.primitive_uvs), {n, 2});
+  d["t_hit"] = to_array(std::move(l.t_hit), {n});
+  return d;
+}
+
 uint32_t add_triangles(PyScene& s, const py::object& first, const py::object& second) {
   if (second.is_none()) {
     if (!py::isinstance<py::str>(first) && !py::hasattr(first, "__fspath__"))
@@ -248,6 +284,14 @@ PYBIND11_MODULE(hprt, m) {
       .def("test_occlusions", &test_occlusions, py::arg("rays"), py::arg("tnear") = 0.0f,
            py::arg("tfar") = std::numeric_limits<float>::infinity(), py::arg("nthreads") = 0,
            "whether anything is hit with t in (tnear, tfar] along each ray")
+      .def("count_intersections", &count_intersections, py::arg("rays"), py::arg("nthreads") = 0,
+           "surface crossings along each of (..., 6) rays, an int32 array of the leading shape; "
+           "the bvh backend counts a ray exactly through a shared edge or vertex once (a fill "
+           "rule), so the parity tells inside from outside for closed meshes")
+      .def("list_intersections", &list_intersections, py::arg("rays"), py::arg("nthreads") = 0,
+           "every crossing along each ray, nearest first: a dict of ray_splits (int32, rays + 1: "
+           "ray i's crossings are [ray_splits[i], ray_splits[i+1])), ray_ids, geometry_ids, "
+           "primitive_ids (uint32), primitive_uvs (float32, (k, 2)) and t_hit (float32)")
       .def("info", &info, "backend configuration, build time, memory, geometry counts")
       .def_static(
           "create_rays_pinhole",

@@ -1,4 +1,4 @@
-// Exact arithmetic on floating-point expansions (Shewchuk, "Adaptive Precision
+// Exact arithmetic on floating-point expansions of any length (Shewchuk, "Adaptive Precision
 // Floating-Point Arithmetic and Fast Robust Geometric Predicates", 1997): a
 // value is an unevaluated sum of non-overlapping doubles in increasing
 // magnitude. Sums and products are exact while no component overflows or
@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <vector>
+
+#include "core/exact_arith.h"
 
 namespace hprt::exact {
 
@@ -46,16 +48,6 @@ class Expansion {
   }
 
  private:
-  static void two_sum(double a, double b, double& x, double& y) {
-    x = a + b;
-    const double bv = x - a;
-    const double av = x - bv;
-    y = (a - av) + (b - bv);
-  }
-  static void two_product(double a, double b, double& x, double& y) {
-    x = a * b;
-    y = std::fma(a, b, -x);
-  }
   // Grow-Expansion with zero elimination: this += b.
   void grow(double b) {
     std::vector<double> out;

@@ -160,6 +160,26 @@ class HPRT_API Backend {
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
   void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
 
+  // Surface crossings along each ray in (tnear, tfar]: counts[i] for
+  // rays[i] (counts.size() >= rays.size()). The bvh backend (watertight test,
+  // the default) counts each crossing exactly once: a ray exactly through an
+  // edge or vertex shared by several triangles hits one of them (a fill
+  // rule), so the parity tells inside from outside for closed meshes. Embree
+  // counts every triangle its test hits (a shared edge may count twice or
+  // not at all). Plugins cannot answer: Error.
+  void count(std::span<const Ray> rays, std::span<uint32_t> counts) const;
+
+  // Every crossing along each ray in (tnear, tfar], in order of t (then
+  // geom_id, prim_id), at most max_per_ray per ray: ray i's are
+  // hits[offsets[i] .. offsets[i + 1]), truncated[i] = 1 when the bound cut
+  // its list (the nearest are kept).
+  struct HitLists {
+    std::vector<uint64_t> offsets;  // rays + 1
+    std::vector<Hit> hits;
+    std::vector<uint8_t> truncated;
+  };
+  HitLists intersect_all(std::span<const Ray> rays, uint32_t max_per_ray = 1024) const;
+
   BackendInfo info() const;
 
   struct Impl;

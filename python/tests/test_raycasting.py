@@ -228,3 +228,68 @@ def test_bad_input_raises_with_the_cli_message(tmp_path):
     with pytest.raises(hprt.Error, match="unknown ray kind|reference|unknown backend"):
         hprt.validate_rays(scene, [down(0, 0)], reference="nope")
     assert issubclass(hprt.Error, RuntimeError)
+
+
+def cube():
+    """The closed cube [-1, 1]^3 as 12 triangles (both diagonals' ends shared)."""
+    v = np.array([[-1, -1, -1], [1, -1, -1], [1, 1, -1], [-1, 1, -1],
+                  [-1, -1, 1], [1, -1, 1], [1, 1, 1], [-1, 1, 1]], dtype=np.float32)
+    t = np.array([[0, 2, 1], [0, 3, 2], [4, 5, 6], [4, 6, 7], [0, 1, 5], [0, 5, 4],
+                  [3, 7, 6], [3, 6, 2], [0, 4, 7], [0, 7, 3], [1, 2, 6], [1, 6, 5]],
+                 dtype=np.int64)
+    return v, t
+
+
+def test_count_intersections_counts_every_crossing_once():
+    scene = hprt.RaycastingScene()
+    scene.add_triangles(*cube())
+    rays = np.array([
+        [0, 0, 0, 0.3, 0.2, 1],      # from inside: one crossing
+        [0, 0, 0, 1, 1, 1],          # exactly through a corner shared by six triangles
+        [0, 0, 0, 0.5, 0.5, 1],      # exactly through a face diagonal (shared edge)
+        [-5, 0, 0, 1, 0, 0],         # in and out, both through face diagonals
+        [-5, 3, 0, 1, 0, 0],         # beside
+        [0, 0, 0, float("nan"), 0, 1],  # NaN: no crossing, as in the CLI
+    ], dtype=np.float32)
+    counts = scene.count_intersections(rays)
+    assert counts.dtype == np.int32 and counts.shape == (6,)
+    assert counts.tolist() == [1, 1, 1, 2, 0, 0]
+    assert scene.count_intersections(rays.reshape(2, 3, 6)).shape == (2, 3)
+    # Parity: inside for points of a grid through the cube's centre planes,
+    # including points on the diagonals' planes.
+    pts = np.array([[x, y, z] for x in (-0.5, 0.0, 0.5) for y in (-0.5, 0.0, 0.5)
+                    for z in (-2.0, 0.0, 2.0)], dtype=np.float32)
+    dirs = np.tile(np.array([[1.0, 1.0, 0.0]], np.float32), (len(pts), 1))
+    parity = scene.count_intersections(np.hstack([pts, dirs])) % 2
+    assert parity.tolist() == [int(abs(p[2]) < 1) for p in pts]
+
+
+def test_list_intersections_keys_dtypes_and_order():
+    scene = hprt.RaycastingScene()
+    scene.add_triangles(*cube())
+    rays = np.array([[-5, 0.1, 0.2, 1, 0, 0], [-5, 3, 0, 1, 0, 0], [0, 0, 0, 0, 0, 2]],
+                    dtype=np.float32)
+    ans = scene.list_intersections(rays)
+    assert set(ans) == {"ray_splits", "ray_ids", "geometry_ids", "primitive_ids",
+                        "primitive_uvs", "t_hit"}
+    assert ans["ray_splits"].dtype == np.int32 and ans["ray_splits"].tolist() == [0, 2, 2, 3]
+    assert ans["ray_ids"].dtype == np.uint32 and ans["ray_ids"].tolist() == [0, 0, 2]
+    assert ans["primitive_uvs"].shape == (3, 2) and ans["primitive_uvs"].dtype == np.float32
+    np.testing.assert_allclose(ans["t_hit"], [4.0, 6.0, 0.5])
+    assert (ans["geometry_ids"] == 0).all() and (ans["primitive_ids"] < 12).all()
+    counts = scene.count_intersections(rays)
+    assert np.diff(ans["ray_splits"]).tolist() == counts.tolist()
+    empty = scene.list_intersections(np.zeros((0, 6), np.float32))
+    assert empty["ray_splits"].tolist() == [0] and empty["t_hit"].shape == (0,)
+
+
+def test_count_and_list_through_embree_and_bad_input():
+    scene = hprt.RaycastingScene(backend="embree")
+    scene.add_triangles(*cube())
+    rays = np.array([[-5, 0.1, 0.2, 1, 0, 0]], dtype=np.float32)
+    assert scene.count_intersections(rays).tolist() == [2]
+    assert scene.list_intersections(rays)["ray_splits"].tolist() == [0, 2]
+    with pytest.raises(ValueError):
+        scene.count_intersections(np.zeros((3, 5), np.float32))
+    with pytest.raises(ValueError):
+        scene.list_intersections(np.zeros((3, 7), np.float32))

@@ -1,3 +1,4 @@
+#include <cstring>
 #include <stdexcept>
 
 #include "api/api_errors.h"
@@ -58,6 +59,26 @@ void Backend::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) c
   const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
   translate_errors(
       [&] { impl_->run([&] { impl_->built().occluded(r, occluded.first(rays.size())); }); });
+}
+
+void Backend::count(std::span<const Ray> rays, std::span<uint32_t> counts) const {
+  if (counts.size() < rays.size()) throw std::invalid_argument("count: fewer results than rays");
+  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
+  translate_errors(
+      [&] { impl_->run([&] { impl_->built().count(r, counts.first(rays.size())); }); });
+}
+
+Backend::HitLists Backend::intersect_all(std::span<const Ray> rays, uint32_t max_per_ray) const {
+  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
+  hprt::HitLists lists;
+  translate_errors(
+      [&] { impl_->run([&] { impl_->built().intersect_all(r, max_per_ray, lists); }); });
+  HitLists out;
+  out.offsets = std::move(lists.offsets);
+  out.truncated = std::move(lists.truncated);
+  out.hits.resize(lists.hits.size());
+  std::memcpy(out.hits.data(), lists.hits.data(), lists.hits.size() * sizeof(Hit));
+  return out;
 }
 
 BackendInfo Backend::info() const {

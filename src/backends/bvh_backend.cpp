@@ -113,6 +113,20 @@ class BvhIntersector final : public Intersector {
       occluded_batch(bvh, options_.triangle_test, rays, result.data());
     });
   }
+  void count(std::span<const Ray> rays, std::span<uint32_t> counts) const override {
+    if (counts.size() < rays.size())
+      throw std::invalid_argument("count: fewer result slots than rays");
+    with_layout(*this, [&](const auto& bvh) {
+      count_batch(bvh, options_.triangle_test, rays, counts.data());
+    });
+  }
+
+  void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray,
+                     HitLists& out) const override {
+    with_layout(*this, [&](const auto& bvh) {
+      all_batch(bvh, options_.triangle_test, rays, max_per_ray, out);
+    });
+  }
 
   BuildInfo info() const override { return info_; }
 

@@ -2,7 +2,8 @@
 // (geomID = mesh index) sharing the mesh's own vertex and index arrays (so the
 // Scene must outlive every query), build quality and robust flag as options;
 // rays traced in parallel (oneTBB, caller's task arena) as 16-ray packets when
-// coherent, else with rtcIntersect1/rtcOccluded1.
+// coherent, else with rtcIntersect1/rtcOccluded1; count and all queries
+// through a context filter function.
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -11,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <stdexcept>
 #include <vector>
 
@@ -97,6 +99,7 @@ class EmbreeIntersector final : public Intersector {
         rtcCommitGeometry(geoms_[i].geom);
       }
       device_.check("update geometry");
+      release_query_scene();
       rtcCommitScene(scene_);
       device_.check("rtcCommitScene");
       info_.rebuilt = quality_ != RTC_BUILD_QUALITY_REFIT;
@@ -154,9 +157,110 @@ class EmbreeIntersector final : public Intersector {
                       });
   }
 
+  // Every hit through Embree: the same rays with a context filter function
+  // that records each hit Embree's test finds and rejects it, so traversal
+  // goes on (embree#188's recipe). Rays one by one (rtcIntersect1).
+  void count(std::span<const Ray> rays, std::span<uint32_t> counts) const override {
+    if (counts.size() < rays.size())
+      throw std::invalid_argument("count: fewer result slots than rays");
+    RTCScene scene = query_scene();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), kBlock),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        std::vector<Hit> hits;
+                        for (size_t i = range.begin(); i != range.end(); ++i) {
+                          collect_hits(scene, rays[i], hits);
+                          counts[i] = uint32_t(hits.size());
+                        }
+                      });
+  }
+
+  void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray,
+                     HitLists& out) const override {
+    RTCScene scene = query_scene();
+    const size_t n = rays.size();
+    std::vector<std::vector<Hit>> per_ray(n);
+    out.truncated.assign(n, 0);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kBlock),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t i = range.begin(); i != range.end(); ++i) {
+                          std::vector<Hit>& h = per_ray[i];
+                          collect_hits(scene, rays[i], h);
+                          std::sort(h.begin(), h.end(), hit_list_before);
+                          if (h.size() > max_per_ray) {
+                            out.truncated[i] = 1;
+                            h.resize(max_per_ray);
+                          }
+                        }
+                      });
+    out.offsets.assign(n + 1, 0);
+    for (size_t i = 0; i < n; ++i) out.offsets[i + 1] = out.offsets[i] + per_ray[i].size();
+    out.hits.clear();
+    out.hits.reserve(out.offsets[n]);
+    for (const auto& h : per_ray) out.hits.insert(out.hits.end(), h.begin(), h.end());
+  }
+
   BuildInfo info() const override { return info_; }
 
  private:
+  // The context the filter function sees: Embree passes &context, the first
+  // member, so the filter can reach the hit list.
+  struct CollectContext {
+    RTCIntersectContext context;
+    std::vector<Hit>* hits;
+  };
+
+  static void collect_filter(const RTCFilterFunctionNArguments* args) {
+    auto* c = reinterpret_cast<CollectContext*>(args->context);
+    for (unsigned i = 0; i < args->N; ++i) {
+      if (args->valid[i] == 0) continue;
+      c->hits->push_back(Hit{RTCRayN_tfar(args->ray, args->N, i), RTCHitN_u(args->hit, args->N, i),
+                             RTCHitN_v(args->hit, args->N, i),
+                             RTCHitN_geomID(args->hit, args->N, i),
+                             RTCHitN_primID(args->hit, args->N, i)});
+      args->valid[i] = 0;  // rejected: look further
+    }
+  }
+
+  void collect_hits(RTCScene scene, const Ray& r, std::vector<Hit>& hits) const {
+    hits.clear();
+    if (!ray_valid(r)) return;
+    CollectContext c;
+    rtcInitIntersectContext(&c.context);
+    c.context.filter = collect_filter;
+    c.hits = &hits;
+    RTCRayHit rh;
+    to_embree(r, rh.ray);
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+    rtcIntersect1(scene, &c.context, &rh);
+  }
+
+  // A second scene over the same geometries with context filter functions
+  // enabled, made on the first count or all query: the flag stays off the
+  // scene that intersect() and occluded() (and the benchmarks) use.
+  RTCScene query_scene() const {
+    if (!scene_) throw std::logic_error("embree: query before build()");
+    std::lock_guard<std::mutex> lock(query_mutex_);
+    if (query_scene_) return query_scene_;
+    RTCScene q = rtcNewScene(device_.get());
+    device_.check("rtcNewScene");
+    rtcSetSceneFlags(
+        q, RTCSceneFlags(rtcGetSceneFlags(scene_) | RTC_SCENE_FLAG_CONTEXT_FILTER_FUNCTION));
+    rtcSetSceneBuildQuality(q, query_quality_);
+    for (size_t i = 0; i < geoms_.size(); ++i)
+      if (geoms_[i].geom) rtcAttachGeometryByID(q, geoms_[i].geom, unsigned(i));
+    rtcCommitScene(q);
+    device_.check("rtcCommitScene (query scene)");
+    query_scene_ = q;
+    return q;
+  }
+
+  void release_query_scene() {
+    if (query_scene_) rtcReleaseScene(query_scene_);
+    query_scene_ = nullptr;
+  }
+
   struct Geom {
     RTCGeometry geom = nullptr;
     const Vec3f* positions = nullptr;  // what Embree reads (mesh array or `copy`)
@@ -259,6 +363,7 @@ class EmbreeIntersector final : public Intersector {
   }
 
   void release_scene() {
+    release_query_scene();
     for (Geom& g : geoms_)
       if (g.geom) rtcReleaseGeometry(g.geom);
     geoms_.clear();
@@ -284,7 +389,8 @@ class EmbreeIntersector final : public Intersector {
     if (options_.embree_robust) flags |= RTC_SCENE_FLAG_ROBUST;
     if (dynamic) flags |= RTC_SCENE_FLAG_DYNAMIC;
     rtcSetSceneFlags(scene_, RTCSceneFlags(flags));
-    rtcSetSceneBuildQuality(scene_, two_level ? RTC_BUILD_QUALITY_LOW : quality_);
+    query_quality_ = two_level ? RTC_BUILD_QUALITY_LOW : quality_;
+    rtcSetSceneBuildQuality(scene_, query_quality_);
     geoms_.resize(scene.meshes.size());
     for (size_t i = 0; i < scene.meshes.size(); ++i) {
       const TriangleMesh& m = scene.meshes[i];
@@ -324,6 +430,9 @@ class EmbreeIntersector final : public Intersector {
   RTCBuildQuality quality_;
   EmbreeDevice device_;
   RTCScene scene_ = nullptr;
+  RTCBuildQuality query_quality_ = RTC_BUILD_QUALITY_MEDIUM;  // the scene's build quality
+  mutable std::mutex query_mutex_;
+  mutable RTCScene query_scene_ = nullptr;
   std::vector<Geom> geoms_;
   float coherent_origin_ = 0.0f;  // see coherent()
   BuildInfo info_;

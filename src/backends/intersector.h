@@ -16,6 +16,7 @@
 
 #include "bvh/input/build_options.h"
 #include "core/hit.h"
+#include "core/hit_lists.h"
 #include "core/ray.h"
 #include "core/scene.h"
 #include "core/tree_stats.h"
@@ -61,6 +62,15 @@ class Intersector {
   virtual void update(const Scene& scene) = 0;
   virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
   virtual void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const = 0;
+  // Crossings: counts[i] = how many triangles rays[i] hits in (tnear, tfar].
+  // The bvh backend's watertight test counts every crossing of a surface
+  // exactly once (its fill rule); Embree reports every triangle its test
+  // hits, so a ray through a shared edge may count twice or not at all.
+  // Backends that cannot answer throw OptionError("query", ...).
+  virtual void count(std::span<const Ray> rays, std::span<uint32_t> counts) const;
+  // Every hit of each ray in (tnear, tfar] in order of t, the nearest
+  // max_per_ray kept (core/hit_lists.h).
+  virtual void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray, HitLists& out) const;
   virtual BuildInfo info() const = 0;
 };
 

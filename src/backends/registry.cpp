@@ -4,6 +4,7 @@
 #include "backends/embree_backend.h"
 #include "backends/intersector.h"
 #include "backends/plugin_backend.h"
+#include "core/error.h"
 
 namespace hprt {
 
@@ -19,6 +20,14 @@ std::unique_ptr<Intersector> make_intersector(std::string_view backend,
       break;
   }
   return make_bvh_intersector(options);
+}
+
+// Backends without the queries say so (the plugin ABI has no such call).
+void Intersector::count(std::span<const Ray>, std::span<uint32_t>) const {
+  throw OptionError("query", "backend " + info().name + " does not answer count queries");
+}
+void Intersector::intersect_all(std::span<const Ray>, uint32_t, HitLists&) const {
+  throw OptionError("query", "backend " + info().name + " does not answer all-hits queries");
 }
 
 }  // namespace hprt

@@ -36,6 +36,7 @@ int run(int argc, char** argv) {
   add_build_command(app, state);
   add_rays_command(app, state);
   add_trace_command(app, state);
+  add_query_command(app, state);
   add_render_command(app, state);
   add_validate_command(app, state);
   add_bench_command(app, state);

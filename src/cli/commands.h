@@ -16,6 +16,7 @@ void add_generate_command(CLI::App& app, CommandState& state);
 void add_build_command(CLI::App& app, CommandState& state);
 void add_rays_command(CLI::App& app, CommandState& state);
 void add_trace_command(CLI::App& app, CommandState& state);
+void add_query_command(CLI::App& app, CommandState& state);  // "query" count|all
 void add_render_command(CLI::App& app, CommandState& state);
 void add_validate_command(CLI::App& app, CommandState& state);  // "validate" + its two below
 void add_validate_rays_command(CLI::App& validate, CommandState& state);

@@ -167,6 +167,57 @@ void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, 
   nthreads > 0 ? in_arena(nthreads, run) : run();
 }
 
+void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* counts,
+                                          int nthreads) {
+  check_rays(rays);
+  api::Backend& b = built();
+  const auto run = [&] {
+    const size_t n = rays.size() / 6;
+    std::vector<api::Ray> r(std::min(n, kChunk));
+    std::vector<uint32_t> c(r.size());
+    for (size_t begin = 0; begin < n; begin += kChunk) {
+      const size_t count = std::min(kChunk, n - begin);
+      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.data());
+      b.count({r.data(), count}, {c.data(), count});
+      for (size_t k = 0; k < count; ++k) counts[begin + k] = int32_t(c[k]);
+    }
+  };
+  nthreads > 0 ? in_arena(nthreads, run) : run();
+}
+
+IntersectionLists RaycastingScene::list_intersections(std::span<const float> rays, int nthreads) {
+  check_rays(rays);
+  api::Backend& b = built();
+  IntersectionLists out;
+  const auto run = [&] {
+    const size_t n = rays.size() / 6;
+    std::vector<api::Ray> r(std::min(n, kChunk));
+    out.ray_splits.assign(1, 0);
+    for (size_t begin = 0; begin < n; begin += kChunk) {
+      const size_t count = std::min(kChunk, n - begin);
+      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.data());
+      const api::Backend::HitLists lists =
+          b.intersect_all({r.data(), count}, std::numeric_limits<uint32_t>::max());
+      for (size_t k = 0; k < count; ++k) {
+        for (uint64_t j = lists.offsets[k]; j < lists.offsets[k + 1]; ++j) {
+          const api::Hit& h = lists.hits[j];
+          out.ray_ids.push_back(uint32_t(begin + k));
+          out.geometry_ids.push_back(h.geom_id);
+          out.primitive_ids.push_back(h.prim_id);
+          out.t_hit.push_back(h.t);
+          out.primitive_uvs.push_back(h.u);
+          out.primitive_uvs.push_back(h.v);
+        }
+        if (out.t_hit.size() > size_t(std::numeric_limits<int32_t>::max()))
+          throw api::Error("list_intersections: more than 2^31 intersections");
+        out.ray_splits.push_back(int32_t(out.t_hit.size()));
+      }
+    }
+  };
+  nthreads > 0 ? in_arena(nthreads, run) : run();
+  return out;
+}
+
 api::DiffReport RaycastingScene::validate_rays(std::span<const float> rays,
                                                const std::string& reference) {
   api::Backend& b = built();

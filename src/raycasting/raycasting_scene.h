@@ -30,6 +30,14 @@ struct CastOutput {
   float* primitive_normals;
 };
 
+// list_intersections' result: ray i's hits are [ray_splits[i],
+// ray_splits[i + 1]) of the other arrays, nearest first (uvs: 2 per hit).
+struct IntersectionLists {
+  std::vector<int32_t> ray_splits;
+  std::vector<uint32_t> ray_ids, geometry_ids, primitive_ids;
+  std::vector<float> t_hit, primitive_uvs;
+};
+
 struct SceneInfo {
   std::string backend;  // configuration name, "" before the first build
   double build_ms = 0.0;
@@ -60,6 +68,11 @@ class RaycastingScene {
   void cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads);
   void test_occlusions(std::span<const float> rays, float tnear, float tfar, uint8_t* occluded,
                        int nthreads);
+  // Surface crossings along each ray in (0, inf), each counted once by the
+  // bvh backend (api::Backend::count); Open3D's int32 per ray.
+  void count_intersections(std::span<const float> rays, int32_t* counts, int nthreads);
+  // Every crossing along each ray, nearest first.
+  IntersectionLists list_intersections(std::span<const float> rays, int nthreads);
   // The exact diff of this scene's backend against `reference` (a backend
   // spec) on the rays (6 floats each).
   api::DiffReport validate_rays(std::span<const float> rays, const std::string& reference);

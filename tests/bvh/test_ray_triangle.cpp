@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -69,14 +70,56 @@ TYPED_TEST(TriangleTest, BackFaceHitsAndMissesOutside) {
   EXPECT_FALSE(hit_test<TypeParam>(make_ray({-1.0f, 0.2f, 0.5f}, {1, 0, 0}), kA, kB, kC, h));
 }
 
-TYPED_TEST(TriangleTest, EdgesAndVerticesHit) {
+// Möller-Trumbore treats each triangle as closed: its edges and vertices hit.
+// (The watertight test follows a fill rule instead: below.)
+TEST(TriangleTestMoller, EdgesAndVerticesHit) {
   TriangleHit h{};
   const Vec3f pts[] = {{0.5f, 0.0f, 0}, {0.0f, 0.5f, 0}, {0.5f, 0.5f, 0},
                        {0, 0, 0},       {1, 0, 0},       {0, 1, 0}};
   for (const Vec3f& p : pts) {
-    EXPECT_TRUE(hit_test<TypeParam>(make_ray(p + Vec3f{0, 0, 1}, {0, 0, -1}), kA, kB, kC, h))
+    EXPECT_TRUE(hit_test<MollerTest>(make_ray(p + Vec3f{0, 0, 1}, {0, 0, -1}), kA, kB, kC, h))
         << p.x << "," << p.y;
     EXPECT_FLOAT_EQ(h.t, 1.0f);
+  }
+}
+
+// How many of `tris` the ray hits with the watertight test.
+int count_hits(const Ray& r, const std::vector<std::array<Vec3f, 3>>& tris) {
+  int n = 0;
+  for (const auto& t : tris) {
+    TriangleHit h{};
+    n += hit_test<WatertightTest>(r, t[0], t[1], t[2], h);
+  }
+  return n;
+}
+
+// A unit square as two triangles (either winding each): a ray exactly through
+// a point of the shared diagonal hits exactly one of them, from either side,
+// axis-parallel or oblique; a ray through the shared vertices of the four
+// triangles of a square split by both diagonals hits exactly one.
+TEST(TriangleTestWatertight, SharedEdgeAndVertexHitExactlyOnce) {
+  const Vec3f p00{0, 0, 0}, p10{1, 0, 0}, p11{1, 1, 0}, p01{0, 1, 0}, mid{0.5f, 0.5f, 0};
+  const Vec3f dirs[] = {{0, 0, -1},       {0, 0, 1},      {0.25f, -0.5f, -1}, {-3, 1, 2},
+                        {0.5f, 0.5f, -1}, {-1, -1, 0.5f}, {1, 0, -0.125f},    {0, 1, 0.75f}};
+  for (int winding = 0; winding < 4; ++winding) {
+    std::vector<std::array<Vec3f, 3>> halves = {{p00, p10, p11}, {p00, p11, p01}};
+    if (winding & 1) std::swap(halves[0][1], halves[0][2]);
+    if (winding & 2) std::swap(halves[1][1], halves[1][2]);
+    std::vector<std::array<Vec3f, 3>> quarters = {
+        {p00, p10, mid}, {p10, p11, mid}, {p11, p01, mid}, {p01, p00, mid}};
+    if (winding & 1) std::swap(quarters[0][0], quarters[0][1]);
+    if (winding & 2) std::swap(quarters[2][0], quarters[2][1]);
+    for (const Vec3f& d : dirs)
+      for (int k = 1; k < 16; ++k) {
+        const float s = float(k) / 16.0f;
+        const Vec3f target{s, s, 0};
+        const Ray from_side = make_ray(target - d * 3.0f, d);
+        EXPECT_EQ(count_hits(from_side, halves), 1)
+            << "winding " << winding << " dir " << d.x << "," << d.y << "," << d.z << " s " << s;
+        const Ray at_mid = make_ray(mid - d * (1.0f + s), d);
+        EXPECT_EQ(count_hits(at_mid, quarters), 1)
+            << "winding " << winding << " dir " << d.x << "," << d.y << "," << d.z;
+      }
   }
 }
 
@@ -105,7 +148,7 @@ TEST(TriangleTestWatertight, FanEdgesAndVertexNeverLeak) {
     rim.push_back(centre + Vec3f{std::cos(a), std::sin(a), 0.1f * std::sin(3.0f * a)});
   }
   test::Rng rng(7);
-  int misses_wt = 0, misses_mt = 0;
+  int misses_wt = 0, misses_mt = 0, doubles_wt = 0;
   for (int i = 0; i < 10000; ++i) {
     const int k = i % kFan;
     const float s = (i % 10 == 0) ? 0.0f : 0.01f + 0.9f * rng.uniform();
@@ -113,18 +156,21 @@ TEST(TriangleTestWatertight, FanEdgesAndVertexNeverLeak) {
     const Vec3f org{target.x + 2.0f * (rng.uniform() - 0.5f),
                     target.y + 2.0f * (rng.uniform() - 0.5f), 2.0f + rng.uniform()};
     const Ray r = make_ray(org, target - org);
-    bool any_wt = false, any_mt = false;
+    int hits_wt = 0;
+    bool any_mt = false;
     for (int f = 0; f < kFan; ++f) {
       TriangleHit h{};
       const Vec3f& b = rim[f];
       const Vec3f& c = rim[(f + 1) % kFan];
-      any_wt |= hit_test<WatertightTest>(r, centre, b, c, h);
+      hits_wt += hit_test<WatertightTest>(r, centre, b, c, h);
       any_mt |= hit_test<MollerTest>(r, centre, b, c, h);
     }
-    misses_wt += !any_wt;
+    misses_wt += hits_wt == 0;
+    doubles_wt += hits_wt > 1;
     misses_mt += !any_mt;
   }
   EXPECT_EQ(misses_wt, 0);
+  EXPECT_EQ(doubles_wt, 0);  // the fan is crossed once: one triangle hit
   std::printf("[ info ] fan of %d, 10000 edge/vertex rays: watertight misses %d, MT misses %d\n",
               kFan, misses_wt, misses_mt);
 }

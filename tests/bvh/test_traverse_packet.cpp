@@ -24,6 +24,18 @@ using namespace hprt;
 #if defined(HPRT_HAS_PACKETS)
 namespace {
 
+// The box of some triangles: the lane tests' error bound needs the tree's box
+// (WatertightTest::prepare); without one every lane goes to the scalar test.
+AABB box_of(const std::vector<TriangleVerts>& verts) {
+  AABB b;
+  for (const TriangleVerts& v : verts) {
+    b.extend(v.v0);
+    b.extend(v.v1);
+    b.extend(v.v2);
+  }
+  return b;
+}
+
 template <typename Test, bool kAnyHit, int N>
 bool trace_single(const WideBvh<N>& w, const Ray& ray, Hit& hit) {
   return traverse_wide<Test, kAnyHit>(w, ray, hit);
@@ -169,7 +181,7 @@ size_t expect_frustum_keeps_lane_hits(const WideBvh<N>& w, const std::vector<Ray
   const detail::PacketNodes<WideBvh<N>> layout{w};
   size_t culled = 0;
   for (size_t g = 0; g + kPacketSize <= rays.size(); g += kPacketSize) {
-    const detail::RayPacket<WatertightTest> packet(&rays[g]);
+    const detail::RayPacket<WatertightTest> packet(&rays[g], w.bounds);
     EXPECT_TRUE(packet.frustum) << "packet " << g / kPacketSize;
     const __m512 tfar = _mm512_load_ps(packet.tfar_lane);
     const float tfar_max = detail::reduce_max16(tfar);
@@ -277,7 +289,7 @@ TEST(WatertightLanes, MatchesScalarTestBitForBit) {
       const Vec3f target = v.v0 + (v.v1 - v.v0) * s + (v.v2 - v.v0) * (q * (1.0f - s));
       rays[l].org = eye;
       rays[l].dir = target - eye;
-      prep[l] = WatertightTest::prepare(rays[l]);
+      prep[l] = WatertightTest::prepare(rays[l], box_of(verts));
       tnear[l] = l % 5 == 0 ? 0.5f : 0.0f;
       tfar[l] = l % 7 == 0 ? 1.0f : 1e30f;
     }
@@ -373,7 +385,7 @@ TEST_F(WatertightLeaf, MatchesScalarTestBitForBit) {
   size_t hits = 0, compared = 0;
   for (int k = 0; k < 300; ++k) {
     const Ray ray = fan_probe(rng, verts, centre, k);
-    const WatertightTest::Prepared prep = WatertightTest::prepare(ray);
+    const WatertightTest::Prepared prep = WatertightTest::prepare(ray, box_of(verts));
     for (bool own_block : {false, true})
       for (uint32_t count = 1; count <= 8; ++count)
         for (uint32_t first = 0; first + count <= verts.size(); first += 3) {
@@ -422,7 +434,7 @@ TEST_F(WatertightLeaf, LeafTestKeepsTheLoopsHit) {
   size_t closest_hits = 0, carried_ties = 0;
   for (int k = 0; k < 800; ++k) {
     const Ray ray = fan_probe(rng, verts, centre, k);
-    const WatertightTest::Prepared prep = WatertightTest::prepare(ray);
+    const WatertightTest::Prepared prep = WatertightTest::prepare(ray, box_of(verts));
     for (uint32_t count = 1; count <= 20; ++count)
       for (uint32_t first = 0; first + count <= verts.size(); first += 5) {
         const LeafRange leaf = store_blocks(tris, verts, (first + count) % 2 == 0, first, count);

@@ -224,6 +224,9 @@ TEST(TraverseWide, IntervalLimitsEmptyTreeAndStats) {
   EXPECT_TRUE((traverse_wide<WatertightTest, false>(w, ray, h)));
   ray.tfar = std::nextafter(h.t, 0.0f);
   EXPECT_FALSE((traverse_wide<WatertightTest, false>(w, ray, h)));
+  ray.tfar = std::numeric_limits<float>::infinity();
+  ASSERT_TRUE((traverse_wide<MollerTest, false>(w, ray, h)));  // its own t
+  ray.tfar = std::nextafter(h.t, 0.0f);
   EXPECT_FALSE((traverse_wide<MollerTest, true>(w, ray, h)));
   EXPECT_FALSE((traverse_wide<WatertightTest, false>(WideBvh<4>{}, ray, h)));
 

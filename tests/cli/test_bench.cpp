@@ -173,6 +173,7 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
   const Csv rays = read_csv(dir_ / "out" / "trace_rays.csv");
   std::multiset<std::string> kinds;
   std::map<std::string, int> rows_per_input;
+  size_t counts = 0;
   for (const auto& row : rays.rows) {
     kinds.insert(row.at("ray_kind"));
     ++rows_per_input[row.at("scene")];
@@ -180,18 +181,27 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
     EXPECT_GT(number(row.at("bvh_mrays_per_s")), 0.0);
     EXPECT_GT(number(row.at("embree_mrays_per_s")), 0.0);
     EXPECT_GT(number(row.at("bvh_over_embree")), 0.0);
+    EXPECT_GE(number(row.at("bvh_exact_per_mray")), 0.0);
+    if (row.at("query") == "count") {
+      EXPECT_EQ(row.at("ray_kind"), "random");
+      ++counts;
+      continue;
+    }
     EXPECT_EQ(row.at("query"), row.at("ray_kind") == "shadow" ? "occluded" : "intersect");
   }
   // The scene and the large-mesh suite (generated bumpy sphere, soup and
-  // sliver sheet, and the mesh given): every kind at 1 and 2 threads.
-  const std::map<std::string, int> expected_inputs{{"scene.json", 10},
-                                                   {"bumpy-2000", 10},
-                                                   {"soup-2000", 10},
-                                                   {"sheet-3200", 10},
-                                                   {"extra.ply", 10}};
+  // sliver sheet, and the mesh given): every kind and the crossing counts of
+  // the random rays, at 1 and 2 threads.
+  const std::map<std::string, int> expected_inputs{{"scene.json", 12},
+                                                   {"bumpy-2000", 12},
+                                                   {"soup-2000", 12},
+                                                   {"sheet-3200", 12},
+                                                   {"extra.ply", 12}};
   EXPECT_EQ(rows_per_input, expected_inputs);
-  for (const char* k : {"primary", "shadow", "reflection", "diffuse", "random"})
+  EXPECT_EQ(counts, 10u);
+  for (const char* k : {"primary", "shadow", "reflection", "diffuse"})
     EXPECT_EQ(kinds.count(k), 10u) << k;
+  EXPECT_EQ(kinds.count("random"), 20u);
   check_json("trace.json", "rays", rays);
 
   // One memory row per input: both structures' bytes per triangle.

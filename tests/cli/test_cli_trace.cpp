@@ -23,12 +23,7 @@ class CliTrace : public hprt::test::CliTest {
   CliTrace() : CliTest("hprt_cli_trace_") {}
   void SetUp() override {
     CliTest::SetUp();
-    // A closed unit cube, 12 triangles, as OBJ text.
-    std::ofstream(dir_ / "cube.obj") << "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"
-                                        "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
-                                        "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n"
-                                        "f 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\n"
-                                        "f 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+    std::ofstream(dir_ / "cube.obj") << hprt::test::kCubeObj;
   }
   // Files in dir_ other than the inputs: outputs and any leftover temporary.
   std::vector<std::string> outputs() const {

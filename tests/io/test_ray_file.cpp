@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <string>
+#include <vector>
 
 #include "core/error.h"
 
@@ -75,6 +77,46 @@ TEST_F(RayFileTest, HitsAndOcclusionRoundTrip) {
   write_occlusion(po, occ);
   EXPECT_EQ(fs::file_size(po), 5u);
   EXPECT_EQ(read_occlusion(po), occ);
+}
+
+TEST_F(RayFileTest, CountsAndHitListsRoundTrip) {
+  const std::vector<uint32_t> counts = {0, 3, 1, 0xFFFFFFFFu};
+  write_counts(path("c.bin"), counts);
+  EXPECT_EQ(fs::file_size(path("c.bin")), 16u);
+  EXPECT_EQ(read_counts(path("c.bin")), counts);
+
+  HitLists lists;
+  lists.offsets = {0, 2, 2, 3};
+  lists.hits = {Hit{1.0f, 0.1f, 0.2f, 0, 7}, Hit{2.0f, 0.3f, 0.4f, 1, 8},
+                Hit{0.5f, 0.0f, 1.0f, 2, 9}};
+  lists.truncated = {0, 0, 1};
+  write_hit_lists(path("a.bin"), lists);
+  EXPECT_EQ(fs::file_size(path("a.bin")), 3 * 4 + 3 * 20u);
+  const HitLists back = read_hit_lists(path("a.bin"));
+  EXPECT_EQ(back.offsets, lists.offsets);
+  ASSERT_EQ(back.hits.size(), 3u);
+  EXPECT_EQ(std::memcmp(back.hits.data(), lists.hits.data(), 3 * sizeof(Hit)), 0);
+}
+
+TEST_F(RayFileTest, HitListWithALyingCountIsAnError) {
+  // One ray claiming a billion hits, then 20 bytes: refused, nothing allocated.
+  const uint32_t lie = 1'000'000'000u;
+  {
+    std::ofstream f(path("lie.bin"), std::ios::binary);
+    f.write(reinterpret_cast<const char*>(&lie), 4);
+    f.write(std::string(20, '\0').data(), 20);
+  }
+  try {
+    (void)read_hit_lists(path("lie.bin"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("lie.bin"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("runs past the end"), std::string::npos) << e.what();
+  }
+  std::ofstream(path("short.bin"), std::ios::binary) << "ab";
+  EXPECT_THROW((void)read_hit_lists(path("short.bin")), InputError);
+  write_bytes(path("c3.bin"), 3);
+  EXPECT_THROW((void)read_counts(path("c3.bin")), InputError);
 }
 
 TEST_F(RayFileTest, EmptyFilesAreEmptySets) {

@@ -21,6 +21,14 @@ struct CliResult {
   std::string out, err;
 };
 
+// The closed cube [-1, 1]^3 as 12 triangles, OBJ text.
+inline constexpr const char* kCubeObj =
+    "v -1 -1 -1\nv 1 -1 -1\nv 1 1 -1\nv -1 1 -1\n"
+    "v -1 -1 1\nv 1 -1 1\nv 1 1 1\nv -1 1 1\n"
+    "f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\n"
+    "f 1 2 6\nf 1 6 5\nf 4 8 7\nf 4 7 3\n"
+    "f 1 5 8\nf 1 8 4\nf 2 3 7\nf 2 7 6\n";
+
 inline std::string slurp(const std::filesystem::path& p) {
   std::ifstream f(p, std::ios::binary);
   std::stringstream ss;

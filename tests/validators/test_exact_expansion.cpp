@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 
+#include "core/exact_arith.h"
 #include "core/splitmix64.h"
 #include "validators/exact_expansion.h"
 
@@ -111,6 +112,63 @@ TEST(ExactExpansion, NegationAndEstimate) {
   EXPECT_EQ((-e).estimate(), -e.estimate());
   EXPECT_EQ(e.components().size(), 2u);
   EXPECT_TRUE(as_int128(e) == (Int128(1) << 60) + 3);
+}
+
+// The fixed-size expansions of the triangle test's exact path
+// (core/exact_arith.h) against the arbiter's growing ones: the same triple
+// products d . ((q - o) x (p - o)) of random floats, including ones that
+// cancel exactly, must have the same sign and the same estimate.
+TEST(FixedExpansion, TripleProductsMatchTheArbitersExpansions) {
+  SplitMix64 rng(42);
+  auto f = [&](int scale) {
+    const double u = double(rng.next() >> 11) * 0x1p-53 - 0.5;
+    return float(std::ldexp(u, int(rng.next() % 40) - 20) * double(scale));
+  };
+  int zeros = 0;
+  for (int i = 0; i < 20000; ++i) {
+    float o[3], d[3], p[3], q[3];
+    for (int a = 0; a < 3; ++a) {
+      o[a] = f(1);
+      d[a] = f(1);
+      p[a] = f(1);
+      q[a] = f(1);
+    }
+    if (i % 4 == 0)  // q on the line through p along d, when exact: T = 0
+      for (int a = 0; a < 3; ++a) q[a] = p[a] + 2.0f * d[a];
+    if (i % 4 == 1)  // p at the origin: T = 0
+      for (int a = 0; a < 3; ++a) p[a] = o[a];
+    FixedExpansion<2> qe[3], pe[3];
+    Expansion qd[3], pd[3];
+    for (int a = 0; a < 3; ++a) {
+      qe[a] = subtract(q[a], o[a]);
+      pe[a] = subtract(p[a], o[a]);
+      qd[a] = diff(q[a], o[a]);
+      pd[a] = diff(p[a], o[a]);
+    }
+    FixedExpansion<96> t;
+    t.add(scale(difference(product(qe[1], pe[2]), product(qe[2], pe[1])), d[0]));
+    t.add(scale(difference(product(qe[2], pe[0]), product(qe[0], pe[2])), d[1]));
+    t.add(scale(difference(product(qe[0], pe[1]), product(qe[1], pe[0])), d[2]));
+    const Expansion td = Expansion(d[0]) * (qd[1] * pd[2] - qd[2] * pd[1]) +
+                         Expansion(d[1]) * (qd[2] * pd[0] - qd[0] * pd[2]) +
+                         Expansion(d[2]) * (qd[0] * pd[1] - qd[1] * pd[0]);
+    ASSERT_EQ(t.sign(), td.sign()) << i;
+    EXPECT_EQ(t.estimate(), td.estimate()) << i;
+    zeros += t.sign() == 0;
+  }
+  EXPECT_GE(zeros, 5000);  // the exact cancellations were exercised
+}
+
+TEST(FixedExpansion, SubtractIsExactAcrossExponents) {
+  for (double a : {1e30, 1.0, -3e-30, 0x1p100})
+    for (double b : {1e-30, 1.0, 7e25, -0x1p-100}) {
+      const FixedExpansion<2> e = subtract(float(a), float(b));
+      const Expansion ref = diff(float(a), float(b));
+      EXPECT_EQ(e.sign(), ref.sign());
+      EXPECT_EQ(e.estimate(), ref.estimate());
+      ASSERT_EQ(size_t(e.n), ref.components().size());
+      for (int k = 0; k < e.n; ++k) EXPECT_EQ(e.c[k], ref.components()[size_t(k)]);
+    }
 }
 
 }  // namespace

@@ -4,113 +4,146 @@
 // triangle_intersector_moeller.h: `(absDen*tnear < T) & (T <= absDen*tfar)`;
 // triangle_intersector_woop.h: `(tnear < t) & (t <= tfar)`).
 //  - WatertightTest: Woop, Benthin & Wald, "Watertight Ray/Triangle
-//    Intersection", JCGT 2(1), 2013: shear/scale into ray space, edge
-//    functions U, V, W in double (exact products, see below), hit when
-//    all >= 0 or all <= 0 and det != 0. No gaps along shared edges.
+//    Intersection", JCGT 2(1), 2013: shear/scale into ray space and edge
+//    functions U, V, W, hit when all have one sign. Here every sign is
+//    decided exactly for the float ray and float vertices: the edge
+//    functions are evaluated in double with a proven error bound, and where
+//    the bound cannot decide a sign (the ray passes within about 1e-15 of
+//    the scale of an edge, or exactly through it) the test is redone in
+//    exact arithmetic (ray_triangle_exact.h). A ray exactly through a shared
+//    edge or vertex hits exactly one of the triangles there (a fill rule), so
+//    closest hit, any hit and crossing counts never double-count or leak.
 //  - MollerTest: Möller & Trumbore, "Fast, Minimum Storage Ray/Triangle
 //    Intersection", JGT 1997, with precomputed edges e1, e2 and, as in Embree,
 //    the division deferred until the hit is confirmed.
 // Each test has a per-ray `Prepared` state built once before traversal.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <utility>
 
+#include "bvh/intersect/ray_triangle_exact.h"
 #include "bvh/layout/leaf_triangles.h"
+#include "core/aabb.h"
 #include "core/force_inline.h"
 #include "core/ray.h"
 #include "core/vec.h"
 
 namespace hprt {
 
-// The candidate hit of one test.
-struct TriangleHit {
-  float t, u, v;
-};
-
 namespace detail {
 // x with its sign flipped when `sign_of` is negative (the paper's xorf).
 inline float xor_sign(float x, float sign_of) { return std::signbit(sign_of) ? -x : x; }
+
+// The error bound of the double edge functions (ray_triangle_exact.h derives
+// it): |U - exact U| <= n_c * a_b + n_b * a_c + kEdgeErrorAbs for the edge
+// (b, c), with, per vertex k, a = |x_k| + |y_k| (sheared), z = |z_k|,
+// n_k = kEdgeError * (a + 2z) and a_k = a + kEdgeErrorZ * z.
+inline constexpr double kEdgeError = 0x1p-50;      // 8 * 2^-53
+inline constexpr double kEdgeErrorZ = 0x1p-50;     // 8 * 2^-53
+inline constexpr double kEdgeErrorAbs = 0x1p-900;  // products that underflow
+HPRT_FORCE_INLINE double edge_bound(const double (&n)[3], const double (&a)[3], int b, int c) {
+  return std::fma(n[c], a[b], std::fma(n[b], a[c], kEdgeErrorAbs));
+}
 }  // namespace detail
 
 struct WatertightTest {
-  struct Prepared {
-    Vec3f org;
-    int kx = 0, ky = 1, kz = 2;
-    float sx = 0, sy = 0, sz = 0;
-  };
+  using Prepared = WatertightRay;
 
   // Sec. 3 of the paper: kz = dimension of the largest |dir| component, kx and
   // ky the next two, swapped when dir[kz] < 0 to keep the winding; shear
-  // constants Sx, Sy, Sz.
+  // constants Sx, Sy, Sz (in double: their rounding bounds the error below).
+  // The lanes' error bound (ray_triangle_exact.h) for rays with origins in
+  // [org_lo, org_hi] and triangles inside `root` (the traversal's root box):
+  // 2^-47 M^2, M = twice the largest coordinate distance between the two
+  // boxes. In float: a rounding of M by 2^-24 is far inside the bound's
+  // margin, and an overflow gives +inf (every lane to the scalar test).
+  HPRT_FORCE_INLINE static double lane_bound(const Vec3f& org_lo, const Vec3f& org_hi,
+                                             const AABB& root) {
+    if (root.empty()) return HUGE_VAL;
+    float m = 0.0f;
+    for (int a = 0; a < 3; ++a)
+      m = std::max({m, std::fabs(root.max[a] - org_lo[a]), std::fabs(root.min[a] - org_hi[a]),
+                    std::fabs(root.max[a] - org_hi[a]), std::fabs(root.min[a] - org_lo[a])});
+    const double m2 = 2.0 * double(m);
+    return std::fma(0x1p-47 * m2, m2, detail::kEdgeErrorAbs);
+  }
+
+  // The same with the lanes' error bound for triangles inside `root`.
+  HPRT_FORCE_INLINE static Prepared prepare(const Ray& r, const AABB& root) {
+    Prepared p = prepare(r);
+    p.lane_bound = lane_bound(r.org, r.org, root);
+    return p;
+  }
+
   HPRT_FORCE_INLINE static Prepared prepare(const Ray& r) {
     Prepared p;
     p.org = r.org;
+    p.dir = r.dir;
     const Vec3f a(std::fabs(r.dir.x), std::fabs(r.dir.y), std::fabs(r.dir.z));
     p.kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
     p.kx = p.kz == 2 ? 0 : p.kz + 1;
     p.ky = p.kx == 2 ? 0 : p.kx + 1;
     if (r.dir[p.kz] < 0.0f) std::swap(p.kx, p.ky);
-    p.sx = r.dir[p.kx] / r.dir[p.kz];
-    p.sy = r.dir[p.ky] / r.dir[p.kz];
-    p.sz = 1.0f / r.dir[p.kz];
+    p.ox = r.org[p.kx];
+    p.oy = r.org[p.ky];
+    p.oz = r.org[p.kz];
+    // One division (s_x, s_y are then rounded twice: 2 eps, which the
+    // error bound allows for).
+    p.sz = 1.0 / double(r.dir[p.kz]);
+    p.sx = double(r.dir[p.kx]) * p.sz;
+    p.sy = double(r.dir[p.ky]) * p.sz;
     return p;
-  }
-
-  HPRT_FORCE_INLINE static float shear(float x, float s, float z) {
-    return float(double(x) - double(s) * double(z));
   }
 
   HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const Vec3f& v0, const Vec3f& v1,
                                           const Vec3f& v2, float tnear, float tfar,
                                           TriangleHit& hit) {
-    const Vec3f a = v0 - p.org, b = v1 - p.org, c = v2 - p.org;
-    return intersect_relative(p, {a[p.kx], a[p.ky], a[p.kz]}, {b[p.kx], b[p.ky], b[p.kz]},
-                              {c[p.kx], c[p.ky], c[p.kz]}, tnear, tfar, hit);
+    const float v[3][3] = {{v0[p.kx], v0[p.ky], v0[p.kz]},
+                           {v1[p.kx], v1[p.ky], v1[p.kz]},
+                           {v2[p.kx], v2[p.ky], v2[p.kz]}};
+    return intersect_permuted(p, v, tnear, tfar, hit);
   }
 
-  // The test from the vertices minus the ray origin, each already on the
-  // permuted axes (kx, ky, kz).
-  HPRT_FORCE_INLINE static bool intersect_relative(const Prepared& p, const Vec3f& a,
-                                                   const Vec3f& b, const Vec3f& c, float tnear,
-                                                   float tfar, TriangleHit& hit) {
-    // Sheared 2D vertices. Each must come out bit-identical in every triangle
-    // that shares the vertex, whatever the compiler does: `x - s*z` in float
-    // may or may not be contracted into an FMA depending on the inlining
-    // context (seen with g++ 12 -O3 -march=native: 24 leaks in 10k vertex/edge
-    // probes). Evaluated in double, s*z is exact, so fused or not the result
-    // is the same correctly rounded value, then rounded once to float.
-    const float ax = shear(a.x, p.sx, a.z), ay = shear(a.y, p.sy, a.z);
-    const float bx = shear(b.x, p.sx, b.z), by = shear(b.y, p.sy, b.z);
-    const float cx = shear(c.x, p.sx, c.z), cy = shear(c.y, p.sy, c.z);
-    // U, V, W: scaled barycentrics of v0, v1, v2 (edge functions). They are
-    // evaluated in double: the products of two floats are exact there, so
-    // each edge function is the correctly rounded difference of exact
-    // products, which (a) is exactly antisymmetric, so the two triangles of a
-    // shared edge see opposite values whatever the compiler contracts into
-    // FMAs, and (b) has the true sign -- this subsumes the paper's Sec. 4
-    // double fallback for U, V or W == 0. (In float, g++'s default
-    // -ffp-contract=fast fuses one product of `cx*by - cy*bx` and breaks
-    // watertightness: tests/bvh/test_ray_triangle.cpp FanEdgesAndVertexNeverLeak.)
-    const double u = double(cx) * double(by) - double(cy) * double(bx);
-    const double v = double(ax) * double(cy) - double(ay) * double(cx);
-    const double w = double(bx) * double(ay) - double(by) * double(ax);
-    if ((u < 0.0 || v < 0.0 || w < 0.0) && (u > 0.0 || v > 0.0 || w > 0.0)) return false;
-    const double det = u + v + w;
-    if (det == 0.0) return false;
-    const double az = double(p.sz) * a.z, bz = double(p.sz) * b.z, cz = double(p.sz) * c.z;
-    // Fused explicitly: left to the compiler, whether these products are
-    // contracted into FMAs depends on the inlining context, and the packet
-    // version (ray_triangle_lanes.h) must give the same bits.
-    const double tt = std::fma(w, cz, std::fma(v, bz, u * az));
-    const double rcp = 1.0 / det;
-    const float t = float(tt * rcp);
-    if (!(tnear < t && t <= tfar)) return false;
-    hit.t = t;
-    hit.u = float(v * rcp);  // weight of v1
-    hit.v = float(w * rcp);  // weight of v2
-    return true;
+  // The double path's edge functions of the vertices on the permuted axes,
+  // with their error bounds (derived in ray_triangle_exact.h).
+  HPRT_FORCE_INLINE static EdgeFunctions edge_functions(const Prepared& p, const float (&v)[3][3]) {
+    // Vertices minus the origin (one rounding), sheared: x - s*z fused.
+    EdgeFunctions f;
+    double x[3], y[3], bound_n[3], bound_a[3];
+    for (int k = 0; k < 3; ++k) {
+      const double dx = double(v[k][0]) - p.ox, dy = double(v[k][1]) - p.oy;
+      f.z[k] = double(v[k][2]) - p.oz;
+      x[k] = std::fma(-p.sx, f.z[k], dx);
+      y[k] = std::fma(-p.sy, f.z[k], dy);
+      const double a = std::fabs(x[k]) + std::fabs(y[k]), az = std::fabs(f.z[k]);
+      bound_n[k] = detail::kEdgeError * std::fma(2.0, az, a);
+      bound_a[k] = std::fma(detail::kEdgeErrorZ, az, a);
+    }
+    // U, V, W: scaled barycentrics of v0, v1, v2 (edge functions).
+    f.e[0] = std::fma(x[2], y[1], -(y[2] * x[1]));
+    f.e[1] = std::fma(x[0], y[2], -(y[0] * x[2]));
+    f.e[2] = std::fma(x[1], y[0], -(y[1] * x[0]));
+    f.bound[0] = detail::edge_bound(bound_n, bound_a, 1, 2);
+    f.bound[1] = detail::edge_bound(bound_n, bound_a, 2, 0);
+    f.bound[2] = detail::edge_bound(bound_n, bound_a, 0, 1);
+    return f;
+  }
+
+  // The test from the vertices on the permuted axes (kx, ky, kz). Every
+  // operation is spelled out (explicit fma, no product left for the compiler
+  // to contract) because the lane versions (ray_triangle_lanes.h) must give
+  // the same bits, and the same choice of which tests go to the exact path.
+  HPRT_FORCE_INLINE static bool intersect_permuted(const Prepared& p, const float (&v)[3][3],
+                                                   float tnear, float tfar, TriangleHit& hit) {
+    const EdgeFunctions f = edge_functions(p, v);
+    const double u = f.e[0], v_ = f.e[1], w = f.e[2];
+    if (!(std::fabs(u) > f.bound[0] && std::fabs(v_) > f.bound[1] && std::fabs(w) > f.bound[2]))
+      return watertight_exact(p, v, f, tnear, tfar, hit);
+    if ((u < 0.0) != (v_ < 0.0) || (u < 0.0) != (w < 0.0)) return false;
+    return edge_function_hit(f, p.sz, tnear, tfar, hit);
   }
 
   // Requests the cache lines of the leaf's verts block (its rows span it).
@@ -127,11 +160,11 @@ struct WatertightTest {
                                           float tfar, TriangleHit& hit) {
     const float* q = tris.vert_row(leaf.block_first, leaf.block_count, 0) + (i - leaf.block_first);
     const size_t s = leaf.block_count;
-    const auto rel = [&](int k) {
-      const float* v = q + 3 * k * s;
-      return Vec3f{v[p.kx * s] - p.org[p.kx], v[p.ky * s] - p.org[p.ky], v[p.kz * s] - p.org[p.kz]};
-    };
-    return intersect_relative(p, rel(0), rel(1), rel(2), tnear, tfar, hit);
+    const int axis[3] = {p.kx, p.ky, p.kz};
+    float v[3][3];
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) v[k][a] = q[(3 * k + axis[a]) * s];
+    return intersect_permuted(p, v, tnear, tfar, hit);
   }
 };
 
@@ -140,6 +173,7 @@ struct MollerTest {
     Vec3f org, dir;
   };
   HPRT_FORCE_INLINE static Prepared prepare(const Ray& r) { return {r.org, r.dir}; }
+  HPRT_FORCE_INLINE static Prepared prepare(const Ray& r, const AABB&) { return prepare(r); }
 
   HPRT_FORCE_INLINE static bool intersect(const Prepared& p, const Vec3f& v0, const Vec3f& e1,
                                           const Vec3f& e2, float tnear, float tfar,

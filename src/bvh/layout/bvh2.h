@@ -10,6 +10,7 @@
 #include "bvh/layout/leaf_triangles.h"
 #include "bvh/layout/node_binary.h"
 #include "bvh/memory/huge_buffer.h"
+#include "core/aabb.h"
 
 namespace hprt {
 
@@ -18,6 +19,8 @@ struct Bvh2 {
   LeafTriangles triangles;
 
   bool empty() const { return nodes.empty(); }
+  // The root's box: every triangle's (kept by refit).
+  AABB bounds() const { return empty() ? AABB{} : AABB(nodes[0].min, nodes[0].max); }
   // Bytes of the traversal layout: nodes + leaf-order triangles + refs.
   size_t memory_bytes() const {
     return nodes.size() * sizeof(BinaryNode) + triangles.memory_bytes();

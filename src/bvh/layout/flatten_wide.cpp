@@ -223,6 +223,7 @@ WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
     throw std::invalid_argument("flatten: prim_order does not match PrimInfo");
 
   Filler f{tree};
+  out.bounds = tree.nodes[0].bounds;
   if (tree.nodes[0].is_leaf()) {
     out.root = f.leaf_ref(0);
   } else {

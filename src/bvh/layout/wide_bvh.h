@@ -12,6 +12,7 @@
 #include "bvh/layout/bvh2.h"
 #include "bvh/layout/leaf_triangles.h"
 #include "bvh/layout/node_wide.h"
+#include "core/aabb.h"
 
 namespace hprt {
 
@@ -39,6 +40,7 @@ struct WideBvh {
   std::vector<CollapsedInner<N>, CacheAlignedAllocator<CollapsedInner<N>>> collapsed;  // per node
   NodeRef root;  // nodes[0], or a leaf when the whole tree is one leaf; empty when no triangle
   LeafTriangles triangles;
+  AABB bounds;  // of every triangle (the root's box; kept by refit)
 
   bool empty() const { return root.empty(); }
   size_t memory_bytes() const {

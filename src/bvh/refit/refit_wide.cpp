@@ -138,6 +138,7 @@ RefitResult refit(WideBvh<N>& bvh, const Scene& scene, RefitTriangles triangles,
   }
   r.valid = root.valid;
   r.sah_cost = refit_detail::normalised(root);
+  bvh.bounds = root.box;
   return r;
 }
 

@@ -68,6 +68,7 @@ struct PacketNodes<WideBvh<N>> {
   static constexpr int kStackSize = 1 + (N - 1) * kMaxBuildDepth;
   const WideBvh<N>& bvh;
 
+  AABB bounds() const { return bvh.bounds; }
   // The root, and the lanes that enter it (the wide root has no box).
   template <typename Test>
   NodeRef root(const RayPacket<Test>&, __m512, __mmask16& lanes) const {
@@ -124,6 +125,7 @@ struct PacketNodes<Bvh2> {
   static constexpr int kStackSize = 1 + kMaxBuildDepth;
   const Bvh2& bvh;
 
+  AABB bounds() const { return bvh.bounds(); }
   static NodeRef ref_of(const BinaryNode& node, uint32_t index) {
     return node.is_leaf() ? NodeRef::leaf(node.index, node.count) : NodeRef::inner(index);
   }

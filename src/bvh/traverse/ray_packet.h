@@ -52,13 +52,14 @@ struct RayPacket {
   typename Test::Prepared prep[kPacketSize];
 
   const Ray* rays;
+  AABB root;               // the tree's box, for the lanes' error bound (WatertightTest::prepare)
   __mmask16 prepared = 0;  // lanes whose `prep` is set (on their first leaf)
   // The watertight test over all lanes at once, set up with every lane's
   // `prep` at the first leaf (usable when the lanes share their axes).
   static constexpr bool kLaneTest = std::is_same_v<Test, WatertightTest>;
   std::conditional_t<kLaneTest, WatertightLanes, bool> lanes{};
 
-  HPRT_FORCE_INLINE explicit RayPacket(const Ray* r) : rays(r) {
+  HPRT_FORCE_INLINE RayPacket(const Ray* r, const AABB& root_box) : rays(r), root(root_box) {
     // A Ray is eight floats (org, tnear, dir, tfar): field f of lane l is
     // float 8 * l + f from the first ray.
     static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, tnear) == 3 * sizeof(float) &&
@@ -116,13 +117,25 @@ struct RayPacket {
   // Triangle-test state for the lanes of `lanes`: most rays of a packet that
   // misses the mesh never reach a leaf.
   HPRT_FORCE_INLINE void prepare(__mmask16 wanted) {
-    if constexpr (kLaneTest) wanted = 0xFFFF;
+    if constexpr (kLaneTest) {
+      // All lanes at once, with one lane error bound for the packet's
+      // origins (valid for each lane: it bounds every lane's own).
+      if (prepared == 0xFFFF) return;
+      const Vec3f lo{reduce_min16(org[0]), reduce_min16(org[1]), reduce_min16(org[2])};
+      const Vec3f hi{reduce_max16(org[0]), reduce_max16(org[1]), reduce_max16(org[2])};
+      const double bound = WatertightTest::lane_bound(lo, hi, root);
+      for (int l = 0; l < kPacketSize; ++l) {
+        prep[l] = Test::prepare(rays[l]);
+        prep[l].lane_bound = bound;
+      }
+      lanes.setup(prep, tnear_lane);
+      prepared = 0xFFFF;
+      return;
+    }
     for (unsigned m = wanted & ~prepared; m; m &= m - 1) {
       const int l = __builtin_ctz(m);
-      prep[l] = Test::prepare(rays[l]);
+      prep[l] = Test::prepare(rays[l], root);
     }
-    if constexpr (kLaneTest)
-      if (prepared != 0xFFFF) lanes.setup(prep, tnear_lane);
     prepared |= wanted;
   }
 };

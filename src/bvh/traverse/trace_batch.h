@@ -15,6 +15,7 @@
 #include "bvh/layout/bvh2.h"
 #include "bvh/layout/wide_bvh.h"
 #include "core/hit.h"
+#include "core/hit_lists.h"
 #include "core/ray.h"
 
 namespace hprt {
@@ -33,5 +34,23 @@ void occluded_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<cons
                     uint8_t* occluded);
 void occluded_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
                     uint8_t* occluded);
+
+// Crossings: counts[i] = how many triangles rays[i] hits in (tnear, tfar],
+// each crossing of a surface once (the watertight test's fill rule).
+void count_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                 uint32_t* counts);
+void count_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                 uint32_t* counts);
+void count_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                 uint32_t* counts);
+
+// Every hit of each ray in (tnear, tfar], the nearest max_per_ray kept
+// (core/hit_lists.h: order and the truncated flags).
+void all_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,
+               uint32_t max_per_ray, HitLists& out);
+void all_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+               uint32_t max_per_ray, HitLists& out);
+void all_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+               uint32_t max_per_ray, HitLists& out);
 
 }  // namespace hprt

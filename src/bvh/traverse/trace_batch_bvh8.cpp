@@ -1,4 +1,5 @@
-// trace_batch.h for the bvh8 layout: both triangle tests, closest and any hit.
+// trace_batch.h for the bvh8 layout: both triangle tests, closest hit, any hit, counts and all
+// hits.
 #include "bvh/traverse/trace_batch.h"
 #include "bvh/traverse/trace_batch_impl.h"
 
@@ -12,6 +13,16 @@ void intersect_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<con
 void occluded_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
                     uint8_t* occluded) {
   detail::occluded_batch_any_test(bvh, test, rays, occluded);
+}
+
+void count_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                 uint32_t* counts) {
+  detail::count_batch_any_test(bvh, test, rays, counts);
+}
+
+void all_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+               uint32_t max_per_ray, HitLists& out) {
+  detail::all_batch_any_test(bvh, test, rays, max_per_ray, out);
 }
 
 }  // namespace hprt

@@ -9,14 +9,18 @@
 #include <cstddef>
 #include <cstdint>
 #include <span>
+#include <type_traits>
+#include <vector>
 
 #include "bvh/intersect/ray_triangle.h"
 #include "bvh/layout/bvh2.h"
 #include "bvh/layout/wide_bvh.h"
+#include "bvh/traverse/traverse_all.h"
 #include "bvh/traverse/traverse_bvh2.h"
 #include "bvh/traverse/traverse_packet.h"
 #include "bvh/traverse/traverse_wide.h"
 #include "core/aabb.h"
+#include "core/hit_lists.h"
 #include "core/ray_coherence.h"
 
 namespace hprt::detail {
@@ -45,16 +49,12 @@ inline constexpr bool kTracesPackets = false;
 inline float packet_origin_tolerance(const AABB& root) {
   return root.empty() ? 0.0f : kCoherentOriginFraction * max_component(root.diagonal());
 }
-inline float packet_origin_tolerance(const Bvh2& bvh) {
-  return bvh.empty() ? 0.0f : packet_origin_tolerance(AABB(bvh.nodes[0].min, bvh.nodes[0].max));
-}
-template <int N>
-float packet_origin_tolerance(const WideBvh<N>& bvh) {
-  if (!bvh.root.is_inner()) return 0.0f;
-  const WideNode<N>& root = bvh.nodes[bvh.root.index()];
-  AABB box;
-  for (int i = 0; i < N && !root.child[i].empty(); ++i) box.extend(root.box(i));
-  return packet_origin_tolerance(box);
+template <typename Bvh>
+float packet_origin_tolerance(const Bvh& bvh) {
+  if constexpr (std::is_same_v<Bvh, Bvh2>)
+    return packet_origin_tolerance(bvh.bounds());
+  else
+    return packet_origin_tolerance(bvh.bounds);
 }
 
 // kAnyHit writes `occluded`, otherwise `hits`.
@@ -108,6 +108,76 @@ void occluded_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<co
     trace_batch<MollerTest, true>(bvh, rays, nullptr, occluded);
   else
     trace_batch<WatertightTest, true>(bvh, rays, nullptr, occluded);
+}
+
+template <typename Test, typename Bvh>
+void count_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t* counts) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), kRaysPerTask),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i) {
+                        uint32_t n = 0;
+                        if (ray_is_valid(rays[i]))
+                          traverse_all<Test>(bvh, rays[i],
+                                             [&](uint32_t, const TriangleHit&) { ++n; });
+                        counts[i] = n;
+                      }
+                    });
+}
+
+// Per block of rays its hits, gathered into one array once every block's
+// count is known.
+template <typename Test, typename Bvh>
+void all_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t max_per_ray,
+                    HitLists& out) {
+  const size_t n = rays.size();
+  const size_t blocks = (n + kRaysPerTask - 1) / kRaysPerTask;
+  std::vector<std::vector<Hit>> block_hits(blocks);
+  std::vector<uint32_t> kept(n);
+  out.truncated.assign(n, 0);
+  const auto& refs = bvh.triangles.refs;
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    std::vector<Hit> ray_hits;
+    std::vector<Hit>& dst = block_hits[b];
+    for (size_t i = b * kRaysPerTask; i < std::min(n, (b + 1) * kRaysPerTask); ++i) {
+      ray_hits.clear();
+      if (ray_is_valid(rays[i]))
+        traverse_all<Test>(bvh, rays[i], [&](uint32_t t, const TriangleHit& h) {
+          ray_hits.push_back(Hit{h.t, h.u, h.v, refs[t].geom_id, refs[t].prim_id});
+        });
+      std::sort(ray_hits.begin(), ray_hits.end(), hit_list_before);
+      if (ray_hits.size() > max_per_ray) {
+        out.truncated[i] = 1;
+        ray_hits.resize(max_per_ray);
+      }
+      kept[i] = uint32_t(ray_hits.size());
+      dst.insert(dst.end(), ray_hits.begin(), ray_hits.end());
+    }
+  });
+  out.offsets.assign(n + 1, 0);
+  for (size_t i = 0; i < n; ++i) out.offsets[i + 1] = out.offsets[i] + kept[i];
+  out.hits.resize(out.offsets[n]);
+  tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
+    std::copy(block_hits[b].begin(), block_hits[b].end(),
+              out.hits.begin() + std::ptrdiff_t(out.offsets[b * kRaysPerTask]));
+  });
+}
+
+template <typename Bvh>
+void count_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                          uint32_t* counts) {
+  if (test == TriangleTestKind::kMoller)
+    count_batch_test<MollerTest>(bvh, rays, counts);
+  else
+    count_batch_test<WatertightTest>(bvh, rays, counts);
+}
+
+template <typename Bvh>
+void all_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const Ray> rays,
+                        uint32_t max_per_ray, HitLists& out) {
+  if (test == TriangleTestKind::kMoller)
+    all_batch_test<MollerTest>(bvh, rays, max_per_ray, out);
+  else
+    all_batch_test<WatertightTest>(bvh, rays, max_per_ray, out);
 }
 
 }  // namespace hprt::detail

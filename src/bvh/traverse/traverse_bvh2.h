@@ -37,7 +37,7 @@ bool traverse(const Bvh2& bvh, const Ray& ray, Hit& hit, TraversalStats* stats =
 #if defined(__AVX2__)
   const SlabRayPair pair(slab);
 #endif
-  const typename Test::Prepared prep = Test::prepare(ray);
+  const typename Test::Prepared prep = Test::prepare(ray, bvh.bounds());
   const float tnear = ray.tnear;
   float tfar = ray.tfar;
   ClosestHit closest;

@@ -90,7 +90,7 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
   }
   const Nodes layout{bvh};
   const LeafTriangles& tris = bvh.triangles;
-  detail::RayPacket<Test> packet(rays);
+  detail::RayPacket<Test> packet(rays, layout.bounds());
   float* const tfar_lane = packet.tfar_lane;
   __m512 tfar = _mm512_load_ps(tfar_lane);
   float tfar_max = detail::reduce_max16(tfar);  // over every lane: bounds the active ones

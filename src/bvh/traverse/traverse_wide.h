@@ -133,7 +133,7 @@ bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
                    TraversalStats* stats = nullptr) {
   if (bvh.empty()) return false;
   const WideSlabRay slab(ray);
-  const typename Test::Prepared prep = Test::prepare(ray);
+  const typename Test::Prepared prep = Test::prepare(ray, bvh.bounds);
   float tfar = ray.tfar;
   ClosestHit closest;
   traverse_wide_from<Test, kAnyHit, N, kStats>(bvh, bvh.root, slab, prep, ray.tnear, tfar, closest,

@@ -47,6 +47,31 @@ std::vector<T> read_records(const std::string& path) {
 std::vector<Ray> read_rays(const std::string& path) { return read_records<Ray>(path); }
 std::vector<Hit> read_hits(const std::string& path) { return read_records<Hit>(path); }
 std::vector<uint8_t> read_occlusion(const std::string& path) { return read_records<uint8_t>(path); }
+std::vector<uint32_t> read_counts(const std::string& path) { return read_records<uint32_t>(path); }
+
+HitLists read_hit_lists(const std::string& path) {
+  const std::vector<uint8_t> bytes = read_records<uint8_t>(path);
+  HitLists out;
+  out.offsets.push_back(0);
+  size_t at = 0;
+  while (at < bytes.size()) {
+    if (bytes.size() - at < sizeof(uint32_t))
+      throw InputError(path, "truncated count at byte " + std::to_string(at));
+    uint32_t n = 0;
+    std::memcpy(&n, bytes.data() + at, sizeof n);
+    at += sizeof n;
+    if (uint64_t(n) * sizeof(Hit) > bytes.size() - at)
+      throw InputError(path, "count " + std::to_string(n) + " at byte " +
+                                 std::to_string(at - sizeof n) + " runs past the end of the file");
+    const size_t first = out.hits.size();
+    out.hits.resize(first + n);
+    std::memcpy(out.hits.data() + first, bytes.data() + at, size_t(n) * sizeof(Hit));
+    at += size_t(n) * sizeof(Hit);
+    out.offsets.push_back(out.hits.size());
+    out.truncated.push_back(0);  // not stored in the file
+  }
+  return out;
+}
 
 void write_rays(const std::string& path, std::span<const Ray> rays) {
   write_file_atomic(path, rays.data(), rays.size_bytes());
@@ -56,6 +81,21 @@ void write_hits(const std::string& path, std::span<const Hit> hits) {
 }
 void write_occlusion(const std::string& path, std::span<const uint8_t> occluded) {
   write_file_atomic(path, occluded.data(), occluded.size_bytes());
+}
+void write_counts(const std::string& path, std::span<const uint32_t> counts) {
+  write_file_atomic(path, counts.data(), counts.size_bytes());
+}
+void write_hit_lists(const std::string& path, const HitLists& lists) {
+  std::vector<uint8_t> bytes;
+  bytes.reserve(lists.rays() * sizeof(uint32_t) + lists.hits.size() * sizeof(Hit));
+  for (size_t i = 0; i < lists.rays(); ++i) {
+    const uint32_t n = uint32_t(lists.count(i));
+    const auto* c = reinterpret_cast<const uint8_t*>(&n);
+    bytes.insert(bytes.end(), c, c + sizeof n);
+    const auto* h = reinterpret_cast<const uint8_t*>(lists.begin(i));
+    bytes.insert(bytes.end(), h, h + n * sizeof(Hit));
+  }
+  write_file_atomic(path, bytes.data(), bytes.size());
 }
 
 }  // namespace hprt

@@ -1,6 +1,8 @@
 // .rays, .hits and occlusion files (docs/ARCHITECTURE.md "Files"): raw little-endian
 // records, no header. .rays: 32 bytes per ray (== Ray); .hits: 20 bytes per
-// ray (== Hit); occlusion: one byte per ray, 1 = occluded.
+// ray (== Hit); occlusion: one byte per ray, 1 = occluded; counts (the count
+// query): one uint32 per ray; hit lists (the all query): per ray a uint32
+// count, then that many .hits records.
 #pragma once
 
 #include <cstdint>
@@ -9,6 +11,7 @@
 #include <vector>
 
 #include "core/hit.h"
+#include "core/hit_lists.h"
 #include "core/ray.h"
 
 namespace hprt {
@@ -18,10 +21,15 @@ namespace hprt {
 std::vector<Ray> read_rays(const std::string& path);
 std::vector<Hit> read_hits(const std::string& path);
 std::vector<uint8_t> read_occlusion(const std::string& path);
+std::vector<uint32_t> read_counts(const std::string& path);
+// Also refuses a count that runs past the end of the file.
+HitLists read_hit_lists(const std::string& path);
 
 // Writers are atomic (write_file_atomic): the file appears whole or not at all.
 void write_rays(const std::string& path, std::span<const Ray> rays);
 void write_hits(const std::string& path, std::span<const Hit> hits);
 void write_occlusion(const std::string& path, std::span<const uint8_t> occluded);
+void write_counts(const std::string& path, std::span<const uint32_t> counts);
+void write_hit_lists(const std::string& path, const HitLists& lists);
 
 }  // namespace hprt
