@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <limits>
 #include <map>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -137,6 +138,39 @@ py::array count_intersections(PyScene& s, const py::handle& rays_in, int nthread
                                  nthreads);
   }
   return counts;
+}
+
+py::dict compute_closest_points(PyScene& s, const py::handle& points_in, int nthreads) {
+  const FloatArray points = float_array(points_in, "query_points", 3);
+  const std::vector<py::ssize_t> shape = leading(points);
+  FloatArray q(with_last(shape, 3)), uvs(with_last(shape, 2)), normals(with_last(shape, 3));
+  IdArray geom(shape), prim(shape);
+  const rc::ClosestOutput out{q.mutable_data(), geom.mutable_data(), prim.mutable_data(),
+                              uvs.mutable_data(), normals.mutable_data()};
+  {
+    py::gil_scoped_release nogil;
+    s.scene->compute_closest_points({points.data(), size_t(points.size())}, out, nthreads);
+  }
+  py::dict d;
+  d["points"] = q;
+  d["geometry_ids"] = geom;
+  d["primitive_ids"] = prim;
+  d["primitive_uvs"] = uvs;
+  d["primitive_normals"] = normals;
+  return d;
+}
+
+// compute_distance, compute_signed_distance, compute_occupancy: one float32
+// per point, of the points' leading shape.
+template <typename Query>
+py::array point_floats(const py::handle& points_in, Query&& query) {
+  const FloatArray points = float_array(points_in, "query_points", 3);
+  FloatArray result(leading(points));
+  {
+    py::gil_scoped_release nogil;
+    query(std::span<const float>(points.data(), size_t(points.size())), result.mutable_data());
+  }
+  return result;
 }
 
 template <typename T>
@@ -292,6 +326,42 @@ PYBIND11_MODULE(hprt, m) {
            "every crossing along each ray, nearest first: a dict of ray_splits (int32, rays + 1: "
            "ray i's crossings are [ray_splits[i], ray_splits[i+1])), ray_ids, geometry_ids, "
            "primitive_ids (uint32), primitive_uvs (float32, (k, 2)) and t_hit (float32)")
+      .def("compute_closest_points", &compute_closest_points, py::arg("query_points"),
+           py::arg("nthreads") = 0,
+           "the closest surface point of each of (..., 3) points: a dict of points (float32, "
+           "(..., 3)), geometry_ids, primitive_ids (uint32), primitive_uvs (float32, (..., 2)) "
+           "and primitive_normals (float32, (..., 3)); among triangles at exactly the same "
+           "distance the smallest ids win")
+      .def(
+          "compute_distance",
+          [](PyScene& s, const py::handle& points, int nthreads) {
+            return point_floats(points, [&](std::span<const float> p, float* out) {
+              s.scene->compute_distance(p, out, nthreads);
+            });
+          },
+          py::arg("query_points"), py::arg("nthreads") = 0,
+          "distance from each of (..., 3) points to the closest surface point (float32)")
+      .def(
+          "compute_signed_distance",
+          [](PyScene& s, const py::handle& points, int nthreads, int nsamples) {
+            return point_floats(points, [&](std::span<const float> p, float* out) {
+              s.scene->compute_signed_distance(p, out, nthreads, nsamples);
+            });
+          },
+          py::arg("query_points"), py::arg("nthreads") = 0, py::arg("nsamples") = 1,
+          "distance to the surface, negative inside closed meshes and 0 exactly on the "
+          "surface (float32); the bvh backend decides inside exactly, so nsamples (Open3D's "
+          "vote count, odd and >= 1) changes nothing")
+      .def(
+          "compute_occupancy",
+          [](PyScene& s, const py::handle& points, int nthreads, int nsamples) {
+            return point_floats(points, [&](std::span<const float> p, float* out) {
+              s.scene->compute_occupancy(p, out, nthreads, nsamples);
+            });
+          },
+          py::arg("query_points"), py::arg("nthreads") = 0, py::arg("nsamples") = 1,
+          "1.0 for points inside a closed mesh or exactly on its surface, else 0.0 (float32); "
+          "exact on the bvh backend, nsamples as in compute_signed_distance")
       .def("info", &info, "backend configuration, build time, memory, geometry counts")
       .def_static(
           "create_rays_pinhole",

@@ -29,6 +29,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <map>
 #include <memory>
 #include <span>
@@ -179,6 +180,33 @@ class HPRT_API Backend {
     std::vector<uint8_t> truncated;
   };
   HitLists intersect_all(std::span<const Ray> rays, uint32_t max_per_ray = 1024) const;
+
+  // Point queries; `points` holds x, y, z per point (points.size() a
+  // multiple of 3), the results one per point.
+  //
+  // inside: kOutside, kInside or kOnSurface against the scene's closed
+  // meshes, by the parity of the surface crossings of a ray from the point.
+  // The bvh backend decides exactly, whatever the point (on a vertex or edge
+  // plane, exactly on a triangle: kOnSurface); Embree by the parity of its
+  // own crossing count, on the surface where its closest point is at
+  // distance 0. A point with a non-finite or larger than 1.844e18
+  // coordinate is outside. Plugins cannot answer: Error.
+  enum Location : uint8_t { kOutside = 0, kInside = 1, kOnSurface = 2 };
+  void inside(std::span<const float> points, std::span<uint8_t> locations) const;
+
+  // closest: the nearest point of any triangle within max_distance
+  // (inclusive), with its distance, the barycentrics u, v of vertices 1 and
+  // 2, and its triangle; among triangles at exactly the same distance, the
+  // smallest (geom_id, prim_id). Nothing within reach (or a point as above):
+  // x = y = z = distance = +inf, u = v = 0, both ids kInvalidId. Distances
+  // are computed in double from the float inputs, the same way on every
+  // backend.
+  struct ClosestPoint {
+    float x, y, z, distance, u, v;
+    uint32_t geom_id, prim_id;
+  };
+  void closest(std::span<const float> points, std::span<ClosestPoint> closest,
+               float max_distance = std::numeric_limits<float>::infinity()) const;
 
   BackendInfo info() const;
 

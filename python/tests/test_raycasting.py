@@ -293,3 +293,75 @@ def test_count_and_list_through_embree_and_bad_input():
         scene.count_intersections(np.zeros((3, 5), np.float32))
     with pytest.raises(ValueError):
         scene.list_intersections(np.zeros((3, 7), np.float32))
+
+
+def test_closest_points_keys_dtypes_shapes_and_answers():
+    scene = hprt.RaycastingScene()
+    scene.add_triangles(*cube())
+    pts = np.array([[0.2, 0.1, 0.0], [3.0, 0.0, 0.0], [1.0, 0.5, 0.25], [2.0, 2.0, 2.0]])
+    ans = scene.compute_closest_points(pts)  # float64 in: converted once
+    assert set(ans) == {"points", "geometry_ids", "primitive_ids", "primitive_uvs",
+                        "primitive_normals"}
+    assert ans["points"].dtype == np.float32 and ans["points"].shape == (4, 3)
+    assert ans["geometry_ids"].dtype == np.uint32 and ans["primitive_ids"].shape == (4,)
+    assert ans["primitive_uvs"].shape == (4, 2) and ans["primitive_normals"].shape == (4, 3)
+    np.testing.assert_allclose(ans["points"], [[1, 0.1, 0], [1, 0, 0], [1, 0.5, 0.25], [1, 1, 1]],
+                               atol=1e-6)
+    np.testing.assert_allclose(np.abs(ans["primitive_normals"][:3, 0]), 1.0, atol=1e-6)
+    dist = scene.compute_distance(pts)
+    assert dist.dtype == np.float32 and dist.shape == (4,)
+    np.testing.assert_allclose(dist, [0.8, 2.0, 0.0, math.sqrt(3.0)], rtol=1e-6)
+    assert dist[2] == 0.0
+    # Leading dimensions are kept; the same answers in another shape.
+    grid3 = pts.astype(np.float32).reshape(2, 2, 3)
+    assert scene.compute_distance(grid3).shape == (2, 2)
+    np.testing.assert_array_equal(scene.compute_distance(grid3).ravel(), dist)
+    assert scene.compute_closest_points(grid3)["primitive_uvs"].shape == (2, 2, 2)
+    # Embree's rtcPointQuery with the same callback: the same distances.
+    emb = hprt.RaycastingScene(backend="embree")
+    emb.add_triangles(*cube())
+    np.testing.assert_array_equal(emb.compute_distance(pts), dist)
+
+
+def test_signed_distance_and_occupancy_are_exact():
+    scene = hprt.RaycastingScene()
+    scene.add_triangles(*cube())
+    # Every point of a grid with steps of 1/4: on the cube's faces, edges,
+    # corners, its face diagonals' planes, inside and outside.
+    g = np.arange(-6, 7, dtype=np.float32) / 4
+    pts = np.stack(np.meshgrid(g, g, g, indexing="ij"), -1).reshape(-1, 3)
+    m = np.abs(pts).max(axis=1)
+    occ = scene.compute_occupancy(pts)
+    assert occ.dtype == np.float32 and occ.shape == (len(pts),)
+    np.testing.assert_array_equal(occ, (m <= 1).astype(np.float32))
+    sd = scene.compute_signed_distance(pts, nsamples=3)
+    assert sd.dtype == np.float32
+    assert (sd[m < 1] < 0).all() and (sd[m == 1] == 0).all() and (sd[m > 1] > 0).all()
+    np.testing.assert_allclose(np.abs(sd), scene.compute_distance(pts))
+    np.testing.assert_allclose(sd[m < 1], m[m < 1] - 1, atol=1e-6)
+
+
+def test_point_queries_bad_input_and_edge_cases():
+    scene = hprt.RaycastingScene()
+    assert scene.compute_distance(np.zeros((2, 3), np.float32)).tolist() == [math.inf] * 2
+    scene.add_triangles(*cube())
+    empty = scene.compute_closest_points(np.zeros((0, 3), np.float32))
+    assert empty["points"].shape == (0, 3)
+    nan = scene.compute_closest_points([[float("nan"), 0, 0], [0, 1e30, 0]])
+    assert (nan["primitive_ids"] == hprt.INVALID_ID).all()
+    assert np.isinf(scene.compute_distance([[float("nan"), 0, 0]])).all()
+    assert scene.compute_occupancy([[float("nan"), 0, 0]]).tolist() == [0.0]
+    for f in (scene.compute_closest_points, scene.compute_distance,
+              scene.compute_signed_distance, scene.compute_occupancy):
+        with pytest.raises(ValueError):
+            f(np.zeros((4, 2), np.float32))
+        with pytest.raises(TypeError):
+            f(np.array([["a", "b", "c"]]))
+    with pytest.raises(hprt.Error, match="nsamples"):
+        scene.compute_occupancy([[0, 0, 0]], nsamples=2)
+    with pytest.raises(hprt.Error, match="nsamples"):
+        scene.compute_signed_distance([[0, 0, 0]], nsamples=0)
+    mt = hprt.RaycastingScene(isect="mt")
+    mt.add_triangles(*cube())
+    with pytest.raises(hprt.Error, match="watertight"):
+        mt.compute_occupancy([[0, 0, 0]])

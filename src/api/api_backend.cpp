@@ -81,6 +81,35 @@ Backend::HitLists Backend::intersect_all(std::span<const Ray> rays, uint32_t max
   return out;
 }
 
+namespace {
+std::span<const Vec3f> as_points(std::span<const float> xyz, const char* query) {
+  if (xyz.size() % 3 != 0)
+    throw std::invalid_argument(std::string(query) + ": points must hold 3 floats per point, got " +
+                                std::to_string(xyz.size()));
+  return {reinterpret_cast<const Vec3f*>(xyz.data()), xyz.size() / 3};
+}
+}  // namespace
+
+void Backend::inside(std::span<const float> points, std::span<uint8_t> locations) const {
+  const std::span<const Vec3f> p = as_points(points, "inside");
+  if (locations.size() < p.size()) throw std::invalid_argument("inside: fewer results than points");
+  static_assert(sizeof(PointLocation) == 1);
+  const std::span<PointLocation> out(reinterpret_cast<PointLocation*>(locations.data()), p.size());
+  translate_errors([&] { impl_->run([&] { impl_->built().locate(p, out); }); });
+}
+
+void Backend::closest(std::span<const float> points, std::span<ClosestPoint> closest,
+                      float max_distance) const {
+  const std::span<const Vec3f> p = as_points(points, "closest");
+  if (closest.size() < p.size()) throw std::invalid_argument("closest: fewer results than points");
+  if (!(max_distance >= 0.0f))
+    throw Error("max_distance: must be >= 0, got " + std::to_string(max_distance));
+  static_assert(sizeof(ClosestPoint) == sizeof(hprt::ClosestPoint));
+  const std::span<hprt::ClosestPoint> out(reinterpret_cast<hprt::ClosestPoint*>(closest.data()),
+                                          p.size());
+  translate_errors([&] { impl_->run([&] { impl_->built().closest(p, max_distance, out); }); });
+}
+
 BackendInfo Backend::info() const {
   const BuildInfo i = impl_->built().info();
   return {i.name, i.build_ms, i.memory_bytes, i.rebuilt, i.malformed_answers};

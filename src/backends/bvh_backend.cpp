@@ -24,6 +24,7 @@
 #include "bvh/refit/refit_bvh2.h"
 #include "bvh/refit/refit_wide.h"
 #include "bvh/traverse/trace_batch.h"
+#include "core/error.h"
 #include "core/stopwatch.h"
 
 namespace hprt {
@@ -128,6 +129,24 @@ class BvhIntersector final : public Intersector {
     });
   }
 
+  // The point queries read the exact vertices, which only the watertight
+  // test's arrays hold.
+  void locate(std::span<const Vec3f> points, std::span<PointLocation> out) const override {
+    if (out.size() < points.size())
+      throw std::invalid_argument("locate: fewer result slots than points");
+    require_vertices("inside");
+    with_layout(*this, [&](const auto& bvh) { locate_batch(bvh, points, out.data()); });
+  }
+
+  void closest(std::span<const Vec3f> points, float max_distance,
+               std::span<ClosestPoint> out) const override {
+    if (out.size() < points.size())
+      throw std::invalid_argument("closest: fewer result slots than points");
+    require_vertices("closest");
+    with_layout(*this,
+                [&](const auto& bvh) { closest_batch(bvh, points, max_distance, out.data()); });
+  }
+
   BuildInfo info() const override { return info_; }
 
  private:
@@ -197,6 +216,13 @@ class BvhIntersector final : public Intersector {
     info_.stats = stats;
     info_.rebuilt = true;
     return ms;
+  }
+
+  void require_vertices(const char* query) const {
+    if (options_.triangle_test == TriangleTestKind::kMoller)
+      throw OptionError("query", std::string("the mt triangle test keeps no exact vertices, so it "
+                                             "does not answer ") +
+                                     query + " queries (use --isect watertight, the default)");
   }
 
   // Only the triangle array the test reads is kept (and refitted).

@@ -3,7 +3,10 @@
 // Scene must outlive every query), build quality and robust flag as options;
 // rays traced in parallel (oneTBB, caller's task arena) as 16-ray packets when
 // coherent, else with rtcIntersect1/rtcOccluded1; count and all queries
-// through a context filter function.
+// through a context filter function; closest points through rtcPointQuery
+// with the usual closest-point callback, inside through both (the parity of
+// the crossings along core/point_query.h's ray, on the surface where the
+// closest point is at distance 0).
 #include <embree3/rtcore.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
@@ -22,6 +25,7 @@
 #include "core/parallel.h"
 #include "core/ray_coherence.h"
 #include "core/stopwatch.h"
+#include "core/triangle_mesh.h"
 
 namespace hprt {
 namespace {
@@ -199,9 +203,97 @@ class EmbreeIntersector final : public Intersector {
     for (const auto& h : per_ray) out.hits.insert(out.hits.end(), h.begin(), h.end());
   }
 
+  void locate(std::span<const Vec3f> points, std::span<PointLocation> out) const override {
+    if (out.size() < points.size())
+      throw std::invalid_argument("locate: fewer result slots than points");
+    RTCScene scene = query_scene();
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kBlock),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        std::vector<Hit> hits;
+                        for (size_t i = range.begin(); i != range.end(); ++i) {
+                          const Vec3f& p = points[i];
+                          Ray r;
+                          r.org = p;
+                          r.dir = kInsideDirection;
+                          r.tnear = 0.0f;
+                          r.tfar = std::numeric_limits<float>::infinity();
+                          if (!ray_valid(r)) {
+                            out[i] = PointLocation::kOutside;
+                          } else if (closest_one(p, 0.0f).found()) {
+                            out[i] = PointLocation::kOnSurface;
+                          } else {
+                            collect_hits(scene, r, hits);
+                            out[i] =
+                                hits.size() % 2 ? PointLocation::kInside : PointLocation::kOutside;
+                          }
+                        }
+                      });
+  }
+
+  void closest(std::span<const Vec3f> points, float max_distance,
+               std::span<ClosestPoint> out) const override {
+    if (out.size() < points.size())
+      throw std::invalid_argument("closest: fewer result slots than points");
+    if (!scene_) throw std::logic_error("embree: closest() before build()");
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kBlock),
+                      [&](const tbb::blocked_range<size_t>& range) {
+                        for (size_t i = range.begin(); i != range.end(); ++i)
+                          out[i] = closest_one(points[i], max_distance);
+                      });
+  }
+
   BuildInfo info() const override { return info_; }
 
  private:
+  // The state of one rtcPointQuery: the best triangle so far.
+  struct ClosestQuery {
+    const EmbreeIntersector* self;
+    Vec3f p;
+    double best_d2;
+    uint32_t geom_id = kInvalidId, prim_id = kInvalidId;
+    TrianglePoint at{};
+  };
+
+  // Embree's closest-point recipe (its closest_point tutorial): the callback
+  // measures each triangle whose box is within the query radius and shrinks
+  // the radius to the best distance so far.
+  static bool closest_callback(RTCPointQueryFunctionArguments* args) {
+    auto* q = static_cast<ClosestQuery*>(args->userPtr);
+    const Geom& g = q->self->geoms_[args->geomID];
+    const Vec3u& t = g.triangles[args->primID];
+    const Vec3f &a = g.positions[t[0]], &b = g.positions[t[1]], &c = g.positions[t[2]];
+    if (!is_finite(a) || !is_finite(b) || !is_finite(c) || !nonzero_area(a, b, c)) return false;
+    const TrianglePoint tp = closest_point_on_triangle(q->p, a, b, c);
+    if (!closest_before(tp.d2, args->geomID, args->primID, q->best_d2, q->geom_id, q->prim_id))
+      return false;
+    q->best_d2 = tp.d2;
+    q->geom_id = args->geomID;
+    q->prim_id = args->primID;
+    q->at = tp;
+    // Rounded up: a triangle at exactly this distance is still visited.
+    args->query->radius =
+        std::nextafter(float(std::sqrt(tp.d2)), std::numeric_limits<float>::infinity());
+    return true;
+  }
+
+  ClosestPoint closest_one(const Vec3f& p, float max_distance) const {
+    if (!is_finite(p) || std::fabs(p.x) > kRayComponentLimit ||
+        std::fabs(p.y) > kRayComponentLimit || std::fabs(p.z) > kRayComponentLimit)
+      return {};
+    ClosestQuery q{this, p, closest_search_d2(max_distance)};
+    RTCPointQuery query;
+    query.x = p.x;
+    query.y = p.y;
+    query.z = p.z;
+    query.time = 0.0f;
+    query.radius = float(std::sqrt(q.best_d2));
+    RTCPointQueryContext context;
+    rtcInitPointQueryContext(&context);
+    rtcPointQuery(scene_, &query, &context, closest_callback, &q);
+    if (q.geom_id == kInvalidId) return {};
+    return keep_within(to_closest_point(q.at, q.geom_id, q.prim_id), max_distance);
+  }
+
   // The context the filter function sees: Embree passes &context, the first
   // member, so the filter can reach the hit list.
   struct CollectContext {

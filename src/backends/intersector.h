@@ -17,6 +17,7 @@
 #include "bvh/input/build_options.h"
 #include "core/hit.h"
 #include "core/hit_lists.h"
+#include "core/point_query.h"
 #include "core/ray.h"
 #include "core/scene.h"
 #include "core/tree_stats.h"
@@ -71,6 +72,15 @@ class Intersector {
   // Every hit of each ray in (tnear, tfar] in order of t, the nearest
   // max_per_ray kept (core/hit_lists.h).
   virtual void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray, HitLists& out) const;
+  // Point queries (core/point_query.h), out.size() >= points.size().
+  // locate: inside, outside or on the surface of the scene's closed meshes
+  // (the bvh backend decides exactly; Embree by the parity of its crossing
+  // count along the same ray, on the surface where its closest-point query
+  // finds distance 0). closest: the nearest surface point within
+  // max_distance (inclusive; +inf for no bound).
+  virtual void locate(std::span<const Vec3f> points, std::span<PointLocation> out) const;
+  virtual void closest(std::span<const Vec3f> points, float max_distance,
+                       std::span<ClosestPoint> out) const;
   virtual BuildInfo info() const = 0;
 };
 

@@ -29,5 +29,11 @@ void Intersector::count(std::span<const Ray>, std::span<uint32_t>) const {
 void Intersector::intersect_all(std::span<const Ray>, uint32_t, HitLists&) const {
   throw OptionError("query", "backend " + info().name + " does not answer all-hits queries");
 }
+void Intersector::locate(std::span<const Vec3f>, std::span<PointLocation>) const {
+  throw OptionError("query", "backend " + info().name + " does not answer inside queries");
+}
+void Intersector::closest(std::span<const Vec3f>, float, std::span<ClosestPoint>) const {
+  throw OptionError("query", "backend " + info().name + " does not answer closest-point queries");
+}
 
 }  // namespace hprt

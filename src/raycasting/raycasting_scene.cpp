@@ -218,6 +218,98 @@ IntersectionLists RaycastingScene::list_intersections(std::span<const float> ray
   return out;
 }
 
+namespace {
+void check_points(std::span<const float> points) {
+  if (points.size() % 3 != 0) throw std::invalid_argument("query_points: not 3 floats per point");
+}
+void check_nsamples(int nsamples) {
+  if (nsamples < 1 || nsamples % 2 != 1)
+    throw api::Error("nsamples: must be odd and >= 1, got " + std::to_string(nsamples));
+}
+
+// Points go through in chunks, as rays do: f(points of the chunk, first
+// point's index, count) with `nthreads` as cast_rays takes it.
+template <typename F>
+void for_point_chunks(std::span<const float> points, int nthreads, F&& f) {
+  const auto run = [&] {
+    const size_t n = points.size() / 3;
+    for (size_t begin = 0; begin < n; begin += kChunk) {
+      const size_t count = std::min(kChunk, n - begin);
+      f(points.subspan(3 * begin, 3 * count), begin, count);
+    }
+  };
+  nthreads > 0 ? in_arena(nthreads, run) : run();
+}
+}  // namespace
+
+void RaycastingScene::compute_closest_points(std::span<const float> points,
+                                             const ClosestOutput& out, int nthreads) {
+  check_points(points);
+  api::Backend& b = built();
+  std::vector<api::Backend::ClosestPoint> c(std::min(points.size() / 3, kChunk));
+  for_point_chunks(points, nthreads, [&](std::span<const float> p, size_t begin, size_t count) {
+    b.closest(p, {c.data(), count});
+    parallel_rays(count, [&](size_t k) {
+      const api::Backend::ClosestPoint& q = c[k];
+      const size_t i = begin + k;
+      out.points[3 * i] = q.x;
+      out.points[3 * i + 1] = q.y;
+      out.points[3 * i + 2] = q.z;
+      out.geometry_ids[i] = q.geom_id;
+      out.primitive_ids[i] = q.prim_id;
+      out.primitive_uvs[2 * i] = q.u;
+      out.primitive_uvs[2 * i + 1] = q.v;
+      float* normal = out.primitive_normals + 3 * i;
+      if (q.prim_id != api::kInvalidId)
+        unit_normal(scene_, api::Hit{q.distance, q.u, q.v, q.geom_id, q.prim_id}, normal);
+      else
+        normal[0] = normal[1] = normal[2] = 0.0f;
+    });
+  });
+}
+
+void RaycastingScene::compute_distance(std::span<const float> points, float* distance,
+                                       int nthreads) {
+  check_points(points);
+  api::Backend& b = built();
+  std::vector<api::Backend::ClosestPoint> c(std::min(points.size() / 3, kChunk));
+  for_point_chunks(points, nthreads, [&](std::span<const float> p, size_t begin, size_t count) {
+    b.closest(p, {c.data(), count});
+    for (size_t k = 0; k < count; ++k) distance[begin + k] = c[k].distance;
+  });
+}
+
+void RaycastingScene::compute_signed_distance(std::span<const float> points, float* distance,
+                                              int nthreads, int nsamples) {
+  check_points(points);
+  check_nsamples(nsamples);
+  api::Backend& b = built();
+  std::vector<api::Backend::ClosestPoint> c(std::min(points.size() / 3, kChunk));
+  std::vector<uint8_t> where(c.size());
+  for_point_chunks(points, nthreads, [&](std::span<const float> p, size_t begin, size_t count) {
+    b.closest(p, {c.data(), count});
+    b.inside(p, {where.data(), count});
+    for (size_t k = 0; k < count; ++k)
+      distance[begin + k] =
+          where[k] == api::Backend::kOnSurface
+              ? 0.0f
+              : (where[k] == api::Backend::kInside ? -c[k].distance : c[k].distance);
+  });
+}
+
+void RaycastingScene::compute_occupancy(std::span<const float> points, float* occupancy,
+                                        int nthreads, int nsamples) {
+  check_points(points);
+  check_nsamples(nsamples);
+  api::Backend& b = built();
+  std::vector<uint8_t> where(std::min(points.size() / 3, kChunk));
+  for_point_chunks(points, nthreads, [&](std::span<const float> p, size_t begin, size_t count) {
+    b.inside(p, {where.data(), count});
+    for (size_t k = 0; k < count; ++k)
+      occupancy[begin + k] = where[k] == api::Backend::kOutside ? 0.0f : 1.0f;
+  });
+}
+
 api::DiffReport RaycastingScene::validate_rays(std::span<const float> rays,
                                                const std::string& reference) {
   api::Backend& b = built();

@@ -30,6 +30,18 @@ struct CastOutput {
   float* primitive_normals;
 };
 
+// compute_closest_points writes, n points each: the closest point (3 per
+// point), geometry and primitive ids, u, v (2 per point) and the triangle's
+// unit normal (3 per point); an empty scene gives inf points, invalid ids,
+// zero uvs and normals.
+struct ClosestOutput {
+  float* points;
+  uint32_t* geometry_ids;
+  uint32_t* primitive_ids;
+  float* primitive_uvs;
+  float* primitive_normals;
+};
+
 // list_intersections' result: ray i's hits are [ray_splits[i],
 // ray_splits[i + 1]) of the other arrays, nearest first (uvs: 2 per hit).
 struct IntersectionLists {
@@ -73,6 +85,18 @@ class RaycastingScene {
   void count_intersections(std::span<const float> rays, int32_t* counts, int nthreads);
   // Every crossing along each ray, nearest first.
   IntersectionLists list_intersections(std::span<const float> rays, int nthreads);
+  // Point queries, 3 floats per point (api::Backend::closest and inside).
+  // nsamples: Open3D's vote count, odd and >= 1 (else api::Error); the
+  // answer is exact with one ray, so it changes nothing. Points exactly on
+  // the surface have signed distance 0 and count as occupied.
+  void compute_closest_points(std::span<const float> points, const ClosestOutput& out,
+                              int nthreads);
+  void compute_distance(std::span<const float> points, float* distance, int nthreads);
+  void compute_signed_distance(std::span<const float> points, float* distance, int nthreads,
+                               int nsamples);
+  void compute_occupancy(std::span<const float> points, float* occupancy, int nthreads,
+                         int nsamples);
+
   // The exact diff of this scene's backend against `reference` (a backend
   // spec) on the rays (6 floats each).
   api::DiffReport validate_rays(std::span<const float> rays, const std::string& reference);

@@ -98,6 +98,56 @@ TEST_F(RayFileTest, CountsAndHitListsRoundTrip) {
   EXPECT_EQ(std::memcmp(back.hits.data(), lists.hits.data(), 3 * sizeof(Hit)), 0);
 }
 
+TEST_F(RayFileTest, PointFilesRoundTrip) {
+  const std::vector<Vec3f> points = {{1, 2, 3}, {-0.5f, 0, 1e30f}};
+  write_points(path("p.points"), points);
+  EXPECT_EQ(fs::file_size(path("p.points")), 24u);
+  const std::vector<Vec3f> back = read_points(path("p.points"));
+  ASSERT_EQ(back.size(), 2u);
+  EXPECT_EQ(std::memcmp(back.data(), points.data(), 24), 0);
+
+  const std::vector<PointLocation> where = {PointLocation::kOutside, PointLocation::kOnSurface,
+                                            PointLocation::kInside};
+  write_locations(path("in.bin"), where);
+  EXPECT_EQ(fs::file_size(path("in.bin")), 3u);
+  EXPECT_EQ(read_locations(path("in.bin")), where);
+
+  ClosestPoint c;
+  c.point = {1, 2, 3};
+  c.distance = 0.5f;
+  c.u = 0.25f;
+  c.v = 0.125f;
+  c.geom_id = 1;
+  c.prim_id = 42;
+  const std::vector<ClosestPoint> closest = {c, ClosestPoint{}};
+  write_closest(path("c.bin"), closest);
+  EXPECT_EQ(fs::file_size(path("c.bin")), 64u);
+  const std::vector<ClosestPoint> cb = read_closest(path("c.bin"));
+  ASSERT_EQ(cb.size(), 2u);
+  EXPECT_EQ(std::memcmp(cb.data(), closest.data(), 64), 0);
+  EXPECT_FALSE(cb[1].found());
+}
+
+TEST_F(RayFileTest, BadPointFilesAreErrorsNamingTheFile) {
+  write_bytes(path("p13.points"), 13);
+  try {
+    (void)read_points(path("p13.points"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("p13.points"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("multiple of 12"), std::string::npos) << e.what();
+  }
+  std::ofstream(path("loc.bin"), std::ios::binary) << std::string("\x00\x01\x03", 3);
+  try {
+    (void)read_locations(path("loc.bin"));
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("byte 2 is 3"), std::string::npos) << e.what();
+  }
+  write_bytes(path("c31.bin"), 31);
+  EXPECT_THROW((void)read_closest(path("c31.bin")), InputError);
+}
+
 TEST_F(RayFileTest, HitListWithALyingCountIsAnError) {
   // One ray claiming a billion hits, then 20 bytes: refused, nothing allocated.
   const uint32_t lie = 1'000'000'000u;

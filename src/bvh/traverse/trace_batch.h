@@ -16,6 +16,7 @@
 #include "bvh/layout/wide_bvh.h"
 #include "core/hit.h"
 #include "core/hit_lists.h"
+#include "core/point_query.h"
 #include "core/ray.h"
 
 namespace hprt {
@@ -52,5 +53,20 @@ void all_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray
                uint32_t max_per_ray, HitLists& out);
 void all_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
                uint32_t max_per_ray, HitLists& out);
+
+// The point queries (core/point_query.h); they read the watertight test's
+// vertex arrays, so the tree must hold them (TriangleArrays::kVerts). A point
+// that is not a valid ray origin (a non-finite coordinate or one beyond
+// 1.844e18) is outside and has no closest point.
+void locate_batch(const Bvh2& bvh, std::span<const Vec3f> points, PointLocation* out);
+void locate_batch(const WideBvh<4>& bvh, std::span<const Vec3f> points, PointLocation* out);
+void locate_batch(const WideBvh<8>& bvh, std::span<const Vec3f> points, PointLocation* out);
+// Within max_distance (inclusive; +inf for no bound).
+void closest_batch(const Bvh2& bvh, std::span<const Vec3f> points, float max_distance,
+                   ClosestPoint* out);
+void closest_batch(const WideBvh<4>& bvh, std::span<const Vec3f> points, float max_distance,
+                   ClosestPoint* out);
+void closest_batch(const WideBvh<8>& bvh, std::span<const Vec3f> points, float max_distance,
+                   ClosestPoint* out);
 
 }  // namespace hprt

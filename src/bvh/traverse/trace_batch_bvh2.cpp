@@ -1,5 +1,5 @@
-// trace_batch.h for the bvh2 layout: both triangle tests, closest hit, any hit, counts and all
-// hits.
+// trace_batch.h for the bvh2 layout: both triangle tests, closest hit, any hit, counts, all
+// hits and the point queries.
 #include "bvh/traverse/trace_batch.h"
 #include "bvh/traverse/trace_batch_impl.h"
 
@@ -22,6 +22,15 @@ void count_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> ra
 void all_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,
                uint32_t max_per_ray, HitLists& out) {
   detail::all_batch_any_test(bvh, test, rays, max_per_ray, out);
+}
+
+void locate_batch(const Bvh2& bvh, std::span<const Vec3f> points, PointLocation* out) {
+  detail::locate_batch_impl(bvh, points, out);
+}
+
+void closest_batch(const Bvh2& bvh, std::span<const Vec3f> points, float max_distance,
+                   ClosestPoint* out) {
+  detail::closest_batch_impl(bvh, points, max_distance, out);
 }
 
 }  // namespace hprt

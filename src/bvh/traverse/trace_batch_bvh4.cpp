@@ -1,5 +1,5 @@
-// trace_batch.h for the bvh4 layout: both triangle tests, closest hit, any hit, counts and all
-// hits.
+// trace_batch.h for the bvh4 layout: both triangle tests, closest hit, any hit, counts, all
+// hits and the point queries.
 #include "bvh/traverse/trace_batch.h"
 #include "bvh/traverse/trace_batch_impl.h"
 
@@ -23,6 +23,15 @@ void count_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const R
 void all_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
                uint32_t max_per_ray, HitLists& out) {
   detail::all_batch_any_test(bvh, test, rays, max_per_ray, out);
+}
+
+void locate_batch(const WideBvh<4>& bvh, std::span<const Vec3f> points, PointLocation* out) {
+  detail::locate_batch_impl(bvh, points, out);
+}
+
+void closest_batch(const WideBvh<4>& bvh, std::span<const Vec3f> points, float max_distance,
+                   ClosestPoint* out) {
+  detail::closest_batch_impl(bvh, points, max_distance, out);
 }
 
 }  // namespace hprt

@@ -6,6 +6,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <span>
@@ -18,6 +19,7 @@
 #include "bvh/traverse/traverse_all.h"
 #include "bvh/traverse/traverse_bvh2.h"
 #include "bvh/traverse/traverse_packet.h"
+#include "bvh/traverse/traverse_point.h"
 #include "bvh/traverse/traverse_wide.h"
 #include "core/aabb.h"
 #include "core/hit_lists.h"
@@ -117,8 +119,9 @@ void count_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t* count
                       for (size_t i = range.begin(); i != range.end(); ++i) {
                         uint32_t n = 0;
                         if (ray_is_valid(rays[i]))
-                          traverse_all<Test>(bvh, rays[i],
-                                             [&](uint32_t, const TriangleHit&) { ++n; });
+                          traverse_all<Test>(
+                              bvh, rays[i],
+                              [&](const LeafRange&, uint32_t, const TriangleHit&) { ++n; });
                         counts[i] = n;
                       }
                     });
@@ -141,7 +144,7 @@ void all_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t max_per_
     for (size_t i = b * kRaysPerTask; i < std::min(n, (b + 1) * kRaysPerTask); ++i) {
       ray_hits.clear();
       if (ray_is_valid(rays[i]))
-        traverse_all<Test>(bvh, rays[i], [&](uint32_t t, const TriangleHit& h) {
+        traverse_all<Test>(bvh, rays[i], [&](const LeafRange&, uint32_t t, const TriangleHit& h) {
           ray_hits.push_back(Hit{h.t, h.u, h.v, refs[t].geom_id, refs[t].prim_id});
         });
       std::sort(ray_hits.begin(), ray_hits.end(), hit_list_before);
@@ -178,6 +181,36 @@ void all_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const R
     all_batch_test<MollerTest>(bvh, rays, max_per_ray, out);
   else
     all_batch_test<WatertightTest>(bvh, rays, max_per_ray, out);
+}
+
+inline bool point_valid(const Vec3f& p) {
+  for (int a = 0; a < 3; ++a)
+    if (!(std::fabs(p[a]) <= kRayComponentLimit)) return false;
+  return true;
+}
+
+template <typename Bvh>
+void locate_batch_impl(const Bvh& bvh, std::span<const Vec3f> points, PointLocation* out) {
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kRaysPerTask),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i)
+                        out[i] = point_valid(points[i]) ? locate_point(bvh, points[i])
+                                                        : PointLocation::kOutside;
+                    });
+}
+
+template <typename Bvh>
+void closest_batch_impl(const Bvh& bvh, std::span<const Vec3f> points, float max_distance,
+                        ClosestPoint* out) {
+  const double max_d2 = closest_search_d2(max_distance);
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kRaysPerTask),
+                    [&](const tbb::blocked_range<size_t>& range) {
+                      for (size_t i = range.begin(); i != range.end(); ++i)
+                        out[i] =
+                            point_valid(points[i])
+                                ? keep_within(closest_point(bvh, points[i], max_d2), max_distance)
+                                : ClosestPoint{};
+                    });
 }
 
 }  // namespace hprt::detail

@@ -4,6 +4,9 @@
 // is called once per triangle hit (i = leaf-order index). Each crossing of a
 // surface is one hit: the watertight test decides edges and vertices by its
 // fill rule (ray_triangle_exact.h). No order: the caller sorts if it needs.
+// `leaf_tnear` (default: the ray's tnear) is the triangle tests' lower end
+// alone: the inside query visits boxes from t = 0 but takes every triangle
+// hit there, deciding the sign of t exactly itself.
 #pragma once
 
 #include <cstdint>
@@ -26,7 +29,7 @@ namespace detail {
 template <typename Test, typename Visit>
 HPRT_FORCE_INLINE void visit_leaf_hits(const typename Test::Prepared& prep,
                                        const LeafTriangles& tris, const LeafRange& leaf,
-                                       const Ray& ray, Visit& visit) {
+                                       float tnear, float tfar, Visit& visit) {
 #if defined(HPRT_HAS_LEAF_LANES)
   if constexpr (std::is_same_v<Test, WatertightTest>) {
     const uint32_t end = leaf.first + leaf.count;
@@ -34,11 +37,11 @@ HPRT_FORCE_INLINE void visit_leaf_hits(const typename Test::Prepared& prep,
       alignas(32) float t[8], u[8], v[8];
       const uint32_t n = end - base < 8 ? end - base : 8;
       const unsigned hit =
-          n <= 4 ? watertight_leaf<4>(prep, tris, leaf, base, n, ray.tnear, ray.tfar, t, u, v)
-                 : watertight_leaf<8>(prep, tris, leaf, base, n, ray.tnear, ray.tfar, t, u, v);
+          n <= 4 ? watertight_leaf<4>(prep, tris, leaf, base, n, tnear, tfar, t, u, v)
+                 : watertight_leaf<8>(prep, tris, leaf, base, n, tnear, tfar, t, u, v);
       for (unsigned m = hit; m; m &= m - 1) {
         const int l = __builtin_ctz(m);
-        visit(base + uint32_t(l), TriangleHit{t[l], u[l], v[l]});
+        visit(leaf, base + uint32_t(l), TriangleHit{t[l], u[l], v[l]});
       }
     }
     return;
@@ -46,14 +49,15 @@ HPRT_FORCE_INLINE void visit_leaf_hits(const typename Test::Prepared& prep,
 #endif
   for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
     TriangleHit h;
-    if (Test::intersect(prep, tris, leaf, i, ray.tnear, ray.tfar, h)) visit(i, h);
+    if (Test::intersect(prep, tris, leaf, i, tnear, tfar, h)) visit(leaf, i, h);
   }
 }
 }  // namespace detail
 
-// The ray must be valid (ray_valid).
+// The ray must be valid (ray_valid). visit(leaf, i, hit): triangle i of the
+// leaf range `leaf` (LeafTriangles::triangle reads its vertices).
 template <typename Test, typename Visit>
-void traverse_all(const Bvh2& bvh, const Ray& ray, Visit&& visit) {
+void traverse_all(const Bvh2& bvh, const Ray& ray, Visit&& visit, float leaf_tnear) {
   if (bvh.empty()) return;
   const BinaryNode* nodes = bvh.nodes.data();
   const SlabRay slab(ray);
@@ -67,7 +71,7 @@ void traverse_all(const Bvh2& bvh, const Ray& ray, Visit&& visit) {
     const BinaryNode& node = nodes[stack[--sp]];
     if (node.is_leaf()) {
       detail::visit_leaf_hits<Test>(prep, bvh.triangles, LeafRange::whole(node.index, node.count),
-                                    ray, visit);
+                                    leaf_tnear, ray.tfar, visit);
       continue;
     }
     for (uint32_t c = node.index; c < node.index + 2; ++c)
@@ -76,7 +80,7 @@ void traverse_all(const Bvh2& bvh, const Ray& ray, Visit&& visit) {
 }
 
 template <typename Test, int N, typename Visit>
-void traverse_all(const WideBvh<N>& bvh, const Ray& ray, Visit&& visit) {
+void traverse_all(const WideBvh<N>& bvh, const Ray& ray, Visit&& visit, float leaf_tnear) {
   if (bvh.empty()) return;
   const WideSlabRay slab(ray);
   const typename Test::Prepared prep = Test::prepare(ray, bvh.bounds);
@@ -86,7 +90,8 @@ void traverse_all(const WideBvh<N>& bvh, const Ray& ray, Visit&& visit) {
   while (sp > 0) {
     const NodeRef cur{stack[--sp]};
     if (cur.is_leaf()) {
-      detail::visit_leaf_hits<Test>(prep, bvh.triangles, cur.leaf_range(), ray, visit);
+      detail::visit_leaf_hits<Test>(prep, bvh.triangles, cur.leaf_range(), leaf_tnear, ray.tfar,
+                                    visit);
       continue;
     }
     const WideNode<N>& node = bvh.nodes[cur.index()];
@@ -101,6 +106,11 @@ void traverse_all(const WideBvh<N>& bvh, const Ray& ray, Visit&& visit) {
       stack[sp++] = c.bits;
     }
   }
+}
+
+template <typename Test, typename Bvh, typename Visit>
+void traverse_all(const Bvh& bvh, const Ray& ray, Visit&& visit) {
+  traverse_all<Test>(bvh, ray, visit, ray.tnear);
 }
 
 }  // namespace hprt

@@ -49,6 +49,25 @@ std::vector<Hit> read_hits(const std::string& path) { return read_records<Hit>(p
 std::vector<uint8_t> read_occlusion(const std::string& path) { return read_records<uint8_t>(path); }
 std::vector<uint32_t> read_counts(const std::string& path) { return read_records<uint32_t>(path); }
 
+std::vector<Vec3f> read_points(const std::string& path) {
+  static_assert(sizeof(Vec3f) == 12);
+  return read_records<Vec3f>(path);
+}
+std::vector<ClosestPoint> read_closest(const std::string& path) {
+  return read_records<ClosestPoint>(path);
+}
+std::vector<PointLocation> read_locations(const std::string& path) {
+  const std::vector<uint8_t> bytes = read_records<uint8_t>(path);
+  std::vector<PointLocation> out(bytes.size());
+  for (size_t i = 0; i < bytes.size(); ++i) {
+    if (bytes[i] > 2)
+      throw InputError(path, "byte " + std::to_string(i) + " is " + std::to_string(bytes[i]) +
+                                 ", not a location (0 outside, 1 inside, 2 on the surface)");
+    out[i] = PointLocation(bytes[i]);
+  }
+  return out;
+}
+
 HitLists read_hit_lists(const std::string& path) {
   const std::vector<uint8_t> bytes = read_records<uint8_t>(path);
   HitLists out;
@@ -84,6 +103,15 @@ void write_occlusion(const std::string& path, std::span<const uint8_t> occluded)
 }
 void write_counts(const std::string& path, std::span<const uint32_t> counts) {
   write_file_atomic(path, counts.data(), counts.size_bytes());
+}
+void write_points(const std::string& path, std::span<const Vec3f> points) {
+  write_file_atomic(path, points.data(), points.size_bytes());
+}
+void write_locations(const std::string& path, std::span<const PointLocation> locations) {
+  write_file_atomic(path, locations.data(), locations.size_bytes());
+}
+void write_closest(const std::string& path, std::span<const ClosestPoint> closest) {
+  write_file_atomic(path, closest.data(), closest.size_bytes());
 }
 void write_hit_lists(const std::string& path, const HitLists& lists) {
   std::vector<uint8_t> bytes;

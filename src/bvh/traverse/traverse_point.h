@@ -1,0 +1,226 @@
+// The point queries through a layout of the bvh (core/point_query.h):
+//  - locate_point: on a triangle exactly (every leaf whose closed box holds
+//    the point), else the parity of the crossings of a ray from the point in
+//    kInsideDirection. The watertight test decides which triangles the ray
+//    crosses (exactly, with its fill rule); the side of each one's plane the
+//    point lies on decides exactly whether the crossing is ahead (t > 0).
+//  - closest_point: nearest first, children in order of their boxes'
+//    distance, a subtree skipped once its box is farther than the best so
+//    far (with a margin of 2^-40 for the boxes' rounding, so that triangles
+//    at exactly the best distance are still seen for the tie rule).
+// Both read the triangles' exact vertices: the watertight test's arrays.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <type_traits>
+
+#include "bvh/builders/build_tree.h"
+#include "bvh/intersect/ray_triangle.h"
+#include "bvh/layout/bvh2.h"
+#include "bvh/layout/wide_bvh.h"
+#include "bvh/traverse/traverse_all.h"
+#include "core/exact_predicates.h"
+#include "core/point_query.h"
+#include "core/ray.h"
+
+namespace hprt {
+
+namespace detail {
+inline bool box_holds(const Vec3f& lo, const Vec3f& hi, const Vec3f& p) {
+  return lo.x <= p.x && p.x <= hi.x && lo.y <= p.y && p.y <= hi.y && lo.z <= p.z && p.z <= hi.z;
+}
+
+// Squared distance from p to the box, in double (+inf for an empty slot).
+inline double box_distance2(float lox, float hix, float loy, float hiy, float loz, float hiz,
+                            const Vec3f& p) {
+  const auto axis = [](float lo, float hi, float x) {
+    const double d = std::max({double(lo) - x, double(x) - hi, 0.0});
+    return d * d;
+  };
+  return axis(lox, hix, p.x) + axis(loy, hiy, p.y) + axis(loz, hiz, p.z);
+}
+
+inline double prune_limit(double best_d2) { return best_d2 * (1.0 + 0x1p-40); }
+
+// Calls leaf(range) for every leaf whose closed box holds p; stops when it
+// returns true.
+template <typename Leaf>
+bool any_leaf_holding(const Bvh2& bvh, const Vec3f& p, Leaf&& leaf) {
+  if (bvh.empty() || !box_holds(bvh.nodes[0].min, bvh.nodes[0].max, p)) return false;
+  uint32_t stack[kMaxBuildDepth + 2];
+  int sp = 0;
+  stack[sp++] = 0;
+  while (sp > 0) {
+    const BinaryNode& node = bvh.nodes[stack[--sp]];
+    if (node.is_leaf()) {
+      if (leaf(LeafRange::whole(node.index, node.count))) return true;
+      continue;
+    }
+    for (uint32_t c = node.index; c < node.index + 2; ++c)
+      if (box_holds(bvh.nodes[c].min, bvh.nodes[c].max, p)) stack[sp++] = c;
+  }
+  return false;
+}
+template <int N, typename Leaf>
+bool any_leaf_holding(const WideBvh<N>& bvh, const Vec3f& p, Leaf&& leaf) {
+  if (bvh.empty() || !box_holds(bvh.bounds.min, bvh.bounds.max, p)) return false;
+  uint64_t stack[1 + (N - 1) * kMaxBuildDepth + N];
+  int sp = 0;
+  stack[sp++] = bvh.root.bits;
+  while (sp > 0) {
+    const NodeRef cur{stack[--sp]};
+    if (cur.is_leaf()) {
+      if (leaf(cur.leaf_range())) return true;
+      continue;
+    }
+    const WideNode<N>& node = bvh.nodes[cur.index()];
+    for (int i = 0; i < N; ++i)
+      if (node.bounds[0][i] <= p.x && p.x <= node.bounds[1][i] && node.bounds[2][i] <= p.y &&
+          p.y <= node.bounds[3][i] && node.bounds[4][i] <= p.z && p.z <= node.bounds[5][i])
+        stack[sp++] = node.child[i].bits;
+  }
+  return false;
+}
+
+// The best candidate so far of closest_point.
+struct ClosestSoFar {
+  double d2;
+  uint32_t geom_id = kInvalidId, prim_id = kInvalidId;
+  TrianglePoint at{};
+};
+
+inline void closest_in_leaf(const LeafTriangles& tris, const LeafRange& leaf, const Vec3f& p,
+                            ClosestSoFar& best) {
+  for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+    const TriangleVerts t = tris.triangle(leaf, i);
+    const TrianglePoint q = closest_point_on_triangle(p, t.v0, t.v1, t.v2);
+    const PrimRef& ref = tris.refs[i];
+    if (closest_before(q.d2, ref.geom_id, ref.prim_id, best.d2, best.geom_id, best.prim_id)) {
+      best.d2 = q.d2;
+      best.geom_id = ref.geom_id;
+      best.prim_id = ref.prim_id;
+      best.at = q;
+    }
+  }
+}
+}  // namespace detail
+
+// Whether p lies exactly on a triangle of the tree.
+template <typename Bvh>
+bool point_on_surface(const Bvh& bvh, const Vec3f& p) {
+  return detail::any_leaf_holding(bvh, p, [&](const LeafRange& leaf) {
+    for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
+      const TriangleVerts t = bvh.triangles.triangle(leaf, i);
+      if (exact::on_triangle(t.v0, t.v1, t.v2, p)) return true;
+    }
+    return false;
+  });
+}
+
+// Inside, outside or on the surface (core/point_query.h). p must be a valid
+// ray origin (finite, within Embree's FLT_LARGE).
+template <typename Bvh>
+PointLocation locate_point(const Bvh& bvh, const Vec3f& p) {
+  if (point_on_surface(bvh, p)) return PointLocation::kOnSurface;
+  Ray ray;
+  ray.org = p;
+  ray.dir = kInsideDirection;
+  ray.tnear = 0.0f;
+  ray.tfar = std::numeric_limits<float>::infinity();
+  // Boxes from t = 0 on; every triangle the line crosses in them is taken,
+  // and the side of its plane p lies on decides whether t > 0.
+  unsigned crossings = 0;
+  traverse_all<WatertightTest>(
+      bvh, ray,
+      [&](const LeafRange& leaf, uint32_t i, const TriangleHit&) {
+        const TriangleVerts t = bvh.triangles.triangle(leaf, i);
+        const int side = exact::orient3d(t.v0, t.v1, t.v2, p);
+        const int facing = exact::plane_direction(t.v0, t.v1, t.v2, kInsideDirection);
+        // t = n.(v0 - p) / n.d > 0. (side = 0 would put p on the triangle,
+        // which point_on_surface has ruled out.)
+        if (side != 0 && facing != 0 && side != facing) ++crossings;
+      },
+      -std::numeric_limits<float>::infinity());
+  return crossings % 2 ? PointLocation::kInside : PointLocation::kOutside;
+}
+
+// The nearest point of the tree's triangles within sqrt(max_d2) of p
+// (inclusive), or a ClosestPoint that is not found().
+template <typename Bvh>
+ClosestPoint closest_point(const Bvh& bvh, const Vec3f& p, double max_d2) {
+  detail::ClosestSoFar best{max_d2};
+  if (bvh.empty()) return {};
+  if constexpr (std::is_same_v<Bvh, Bvh2>) {
+    struct Entry {
+      uint32_t node;
+      double d2;
+    };
+    Entry stack[kMaxBuildDepth + 2];
+    int sp = 0;
+    const BinaryNode* nodes = bvh.nodes.data();
+    const auto dist = [&](uint32_t n) {
+      return detail::box_distance2(nodes[n].min.x, nodes[n].max.x, nodes[n].min.y, nodes[n].max.y,
+                                   nodes[n].min.z, nodes[n].max.z, p);
+    };
+    stack[sp++] = {0, dist(0)};
+    while (sp > 0) {
+      const Entry e = stack[--sp];
+      if (e.d2 > detail::prune_limit(best.d2)) continue;
+      const BinaryNode& node = nodes[e.node];
+      if (node.is_leaf()) {
+        detail::closest_in_leaf(bvh.triangles, LeafRange::whole(node.index, node.count), p, best);
+        continue;
+      }
+      Entry a{node.index, dist(node.index)}, b{node.index + 1, dist(node.index + 1)};
+      if (a.d2 < b.d2) std::swap(a, b);  // the nearer on top
+      stack[sp++] = a;
+      stack[sp++] = b;
+    }
+  } else {
+    constexpr int N = std::remove_cvref_t<decltype(bvh.nodes[0])>::kWidth;
+    struct Entry {
+      uint64_t ref;
+      double d2;
+    };
+    Entry stack[1 + (N - 1) * kMaxBuildDepth + N];
+    int sp = 0;
+    const AABB& root = bvh.bounds;
+    stack[sp++] = {bvh.root.bits, detail::box_distance2(root.min.x, root.max.x, root.min.y,
+                                                        root.max.y, root.min.z, root.max.z, p)};
+    while (sp > 0) {
+      const Entry e = stack[--sp];
+      if (e.d2 > detail::prune_limit(best.d2)) continue;
+      const NodeRef cur{e.ref};
+      if (cur.is_leaf()) {
+        detail::closest_in_leaf(bvh.triangles, cur.leaf_range(), p, best);
+        continue;
+      }
+      const WideNode<N>& node = bvh.nodes[cur.index()];
+      Entry near[N];
+      int n = 0;
+      const double limit = detail::prune_limit(best.d2);
+      for (int i = 0; i < N; ++i) {
+        if (node.child[i].empty()) continue;
+        const double d2 =
+            detail::box_distance2(node.bounds[0][i], node.bounds[1][i], node.bounds[2][i],
+                                  node.bounds[3][i], node.bounds[4][i], node.bounds[5][i], p);
+        if (d2 > limit) continue;
+        // Insertion in descending distance: the nearest goes on the stack last.
+        int k = n++;
+        while (k > 0 && near[k - 1].d2 < d2) {
+          near[k] = near[k - 1];
+          --k;
+        }
+        near[k] = {node.child[i].bits, d2};
+      }
+      for (int k = 0; k < n; ++k) stack[sp++] = near[k];
+    }
+  }
+  if (best.geom_id == kInvalidId) return {};
+  return to_closest_point(best.at, best.geom_id, best.prim_id);
+}
+
+}  // namespace hprt
