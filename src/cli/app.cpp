@@ -35,6 +35,7 @@ int run(int argc, char** argv) {
   add_generate_command(app, state);
   add_build_command(app, state);
   add_rays_command(app, state);
+  add_points_command(app, state);
   add_trace_command(app, state);
   add_query_command(app, state);
   add_render_command(app, state);

@@ -26,6 +26,13 @@ const CLI::Validator& backend_spec_validator() {
   return v;
 }
 
+void add_reference_option(CLI::App& cmd, std::string& reference) {
+  cmd.add_option("--reference", reference,
+                 "the backend --backend is diffed against: bvh, embree or plugin:PATH.so[:OPTIONS]")
+      ->check(backend_spec_validator())
+      ->capture_default_str();
+}
+
 void add_threads_option(CLI::App& cmd, int& threads) {
   cmd.add_option("--threads", threads, "worker threads (0 = all hardware threads)")
       ->check(CLI::Range(0, 4096));

@@ -15,12 +15,14 @@ struct CommandState {
 void add_generate_command(CLI::App& app, CommandState& state);
 void add_build_command(CLI::App& app, CommandState& state);
 void add_rays_command(CLI::App& app, CommandState& state);
+void add_points_command(CLI::App& app, CommandState& state);
 void add_trace_command(CLI::App& app, CommandState& state);
-void add_query_command(CLI::App& app, CommandState& state);  // "query" count|all
+void add_query_command(CLI::App& app, CommandState& state);  // "query" count|all|inside|closest
 void add_render_command(CLI::App& app, CommandState& state);
 void add_validate_command(CLI::App& app, CommandState& state);  // "validate" + its two below
 void add_validate_rays_command(CLI::App& validate, CommandState& state);
 void add_validate_image_command(CLI::App& validate, CommandState& state);
+void add_validate_query_command(CLI::App& validate, CommandState& state);
 void add_bench_command(CLI::App& app, CommandState& state);  // "bench" build|trace|frontier
 void add_bench_frames_command(CLI::App& bench, CommandState& state);  // "bench frames"
 
@@ -42,6 +44,8 @@ BackendOptions finish_backend_options(const BackendCliOptions& o);
 
 // Checks a --backend/--reference value: bvh, embree or plugin:PATH.so[:OPTIONS].
 const CLI::Validator& backend_spec_validator();
+// The validators' --reference (the backend --backend is diffed against).
+void add_reference_option(CLI::App& cmd, std::string& reference);
 
 // --threads alone (for commands without a backend choice).
 void add_threads_option(CLI::App& cmd, int& threads);

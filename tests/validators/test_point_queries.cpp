@@ -3,11 +3,11 @@
 //  - inside on a subdivided cube, whose answer is known in closed form, for
 //    every point of a grid through it that lies on its vertex, edge and face
 //    planes (and exactly on its faces);
-//  - inside on an icosphere and a torus against the exact arbiter: the
-//    parity of the crossings of a random ray, redrawn until it passes no edge
-//    or vertex exactly, for points on vertex planes, on the vertices and one
-//    ulp beside them;
-//  - closest against a brute-force search over every triangle (the same
+//  - inside on an icosphere and a torus against the exact judge of
+//    validators/query_diff.h (the arbiter's parity along random rays,
+//    redrawn until one passes no edge or vertex exactly) for the "hard"
+//    point set: points on vertex planes, on the vertices and one ulp beside;
+//  - closest against the brute-force search over every triangle (the same
 //    double formula: every field equal), with and without a maximum
 //    distance; Embree's rtcPointQuery beside it.
 #include <gtest/gtest.h>
@@ -18,12 +18,12 @@
 
 #include "backends/intersector.h"
 #include "core/error.h"
-#include "core/exact_predicates.h"
 #include "core/parallel.h"
 #include "core/splitmix64.h"
 #include "meshgen/mesh_generators.h"
 #include "tests/support/bvh_test_meshes.h"
-#include "validators/arbiter.h"
+#include "validators/point_sets.h"
+#include "validators/query_diff.h"
 
 namespace hprt {
 namespace {
@@ -83,34 +83,6 @@ TriangleMesh subdivided_cube(int n) {
   return m;
 }
 
-// Exact reference of inside: on a triangle (exact), else the parity of the
-// arbiter's crossings along random directions until one meets no edge or
-// vertex of the mesh exactly.
-PointLocation reference_location(const TriangleMesh& m, const Vec3f& p, SplitMix64& rng) {
-  for (const Vec3u& t : m.triangles)
-    if (exact::on_triangle(m.positions[t[0]], m.positions[t[1]], m.positions[t[2]], p))
-      return PointLocation::kOnSurface;
-  for (;;) {
-    Ray r;
-    r.org = p;
-    r.dir = Vec3f{rng.uniform() - 0.5f, rng.uniform() - 0.5f, rng.uniform() - 0.5f};
-    r.tnear = 0.0f;
-    r.tfar = std::numeric_limits<float>::infinity();
-    int crossings = 0;
-    bool generic = true;
-    for (const Vec3u& t : m.triangles) {
-      const CandidateResult c =
-          arbitrate_triangle(r, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
-      if (c.inside && c.zero_edges > 0) {
-        generic = false;
-        break;
-      }
-      crossings += c.hit;
-    }
-    if (generic) return crossings % 2 ? PointLocation::kInside : PointLocation::kOutside;
-  }
-}
-
 TEST(PointQueries, InsideExactOnEveryGridPointOfASubdividedCube) {
   Scene scene;
   scene.add_mesh(subdivided_cube(8));
@@ -145,56 +117,17 @@ TEST(PointQueries, InsideExactOnEveryGridPointOfASubdividedCube) {
   }
 }
 
-// Points on the planes through vertices (one coordinate of a vertex, the
-// others random), the vertices themselves and one ulp beside them, and
-// random points, on closed meshes with curved faces.
-std::vector<Vec3f> hard_points(const TriangleMesh& m, size_t n, uint64_t seed) {
-  SplitMix64 rng(seed);
-  const AABB box = m.bounds();
-  const auto in_box = [&](int a) {
-    return box.min[a] + (box.max[a] - box.min[a]) * (1.2f * rng.uniform() - 0.1f);
-  };
-  std::vector<Vec3f> pts;
-  for (size_t i = 0; i < n; ++i) {
-    const Vec3f& v = m.positions[rng.below(m.positions.size())];
-    Vec3f p{in_box(0), in_box(1), in_box(2)};
-    switch (i % 5) {
-      case 0:
-        break;
-      case 1:
-        p[int(rng.below(3))] = v[int(rng.below(3))];
-        p[0] = v[0];
-        break;
-      case 2:
-        p = v;
-        break;
-      case 3: {
-        p = v;
-        const int a = int(rng.below(3));
-        p[a] = std::nextafter(p[a], rng.coin() ? 10.0f : -10.0f);
-        break;
-      }
-      case 4:
-        p = Vec3f{v.x, v.y, in_box(2)};  // on the vertical line through a vertex
-        break;
-    }
-    pts.push_back(p);
-  }
-  return pts;
-}
-
 TEST(PointQueries, InsideMatchesTheArbiterOnCurvedClosedMeshes) {
   const TriangleMesh meshes[] = {test::icosphere(2), generate_torus(600)};
   for (const TriangleMesh& mesh : meshes) {
     SCOPED_TRACE(mesh.name);
     Scene scene;
     scene.add_mesh(mesh);
-    const std::vector<Vec3f> points = hard_points(mesh, 1000, 17);
-    SplitMix64 rng(23);
+    const std::vector<Vec3f> points = make_points(scene, PointKind::kHard, 1000, 17);
     std::vector<PointLocation> expected;
     size_t on_surface = 0;
-    for (const Vec3f& p : points) {
-      expected.push_back(reference_location(mesh, p, rng));
+    for (size_t i = 0; i < points.size(); ++i) {
+      expected.push_back(exact_location(scene, points[i], 23 + i));
       on_surface += expected.back() == PointLocation::kOnSurface;
     }
     EXPECT_GE(on_surface, points.size() / 5);  // the vertices
@@ -220,25 +153,6 @@ TEST(PointQueries, InsideMatchesTheArbiterOnCurvedClosedMeshes) {
   }
 }
 
-ClosestPoint brute_force_closest(const TriangleMesh& m, const Vec3f& p, float max_distance) {
-  double best = closest_search_d2(max_distance);
-  uint32_t best_prim = kInvalidId;
-  TrianglePoint at{};
-  for (uint32_t i = 0; i < m.triangles.size(); ++i) {
-    if (!m.triangle_valid(i)) continue;
-    const Vec3u& t = m.triangles[i];
-    const TrianglePoint q =
-        closest_point_on_triangle(p, m.positions[t[0]], m.positions[t[1]], m.positions[t[2]]);
-    if (closest_before(q.d2, 0, i, best, 0, best_prim)) {
-      best = q.d2;
-      best_prim = i;
-      at = q;
-    }
-  }
-  if (best_prim == kInvalidId) return {};
-  return keep_within(to_closest_point(at, 0, best_prim), max_distance);
-}
-
 void expect_same(const ClosestPoint& a, const ClosestPoint& b, size_t i) {
   EXPECT_EQ(a.geom_id, b.geom_id) << i;
   EXPECT_EQ(a.prim_id, b.prim_id) << i;
@@ -257,14 +171,14 @@ TEST(PointQueries, ClosestEqualsBruteForceOnEveryLayoutAndBuilder) {
     SCOPED_TRACE(mesh.name);
     Scene scene;
     scene.add_mesh(mesh);
-    std::vector<Vec3f> points = hard_points(mesh, 1000, 29);
+    std::vector<Vec3f> points = make_points(scene, PointKind::kHard, 1000, 29);
     points.push_back(Vec3f{0.0f, 0.0f, 0.0f});
     const float inf = std::numeric_limits<float>::infinity();
     std::vector<ClosestPoint> expected, bounded;
     const float reach = 0.05f;
     for (const Vec3f& p : points) {
-      expected.push_back(brute_force_closest(mesh, p, inf));
-      bounded.push_back(brute_force_closest(mesh, p, reach));
+      expected.push_back(exact_closest(scene, p, inf));
+      bounded.push_back(exact_closest(scene, p, reach));
     }
     size_t beyond = 0;
     for (const ClosestPoint& c : bounded) beyond += !c.found();

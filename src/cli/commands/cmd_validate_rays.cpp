@@ -151,11 +151,7 @@ void add_validate_rays_command(CLI::App& validate, CommandState& state) {
       ->capture_default_str();
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
   add_backend_options(*cmd, args->backend);
-  cmd->add_option(
-         "--reference", args->reference,
-         "the backend --backend is diffed against: bvh, embree or plugin:PATH.so[:OPTIONS]")
-      ->check(backend_spec_validator())
-      ->capture_default_str();
+  add_reference_option(*cmd, args->reference);
   cmd->callback([args, &state] { state.exit_code = run_validate_rays(*args); });
 }
 
