@@ -6,9 +6,11 @@
 // timed; on the scenes and on the large-mesh suite.
 #include "bench/bench_trace.h"
 
+#include <algorithm>
 #include <cstdint>
 #include <filesystem>
 #include <iterator>
+#include <limits>
 #include <memory>
 #include <span>
 #include <string>
@@ -24,6 +26,7 @@
 #include "meshgen/mesh_generators.h"
 #include "render/progress.h"
 #include "render/whitted.h"
+#include "validators/point_sets.h"
 #include "validators/ray_sets.h"
 
 #ifndef HPRT_SOURCE_DATA_DIR
@@ -219,9 +222,21 @@ struct QueryTimes {
   double exact_per_ray = 0.0;  // triangle tests decided in exact arithmetic (bvh side)
 };
 
-enum class Query { kClosest, kAny, kCount };
+enum class Query { kClosest, kAny, kCount, kInside, kClosestPoint };
 const char* to_string(Query q) {
-  return q == Query::kAny ? "occluded" : q == Query::kCount ? "count" : "intersect";
+  switch (q) {
+    case Query::kAny:
+      return "occluded";
+    case Query::kCount:
+      return "count";
+    case Query::kInside:
+      return "inside";
+    case Query::kClosestPoint:
+      return "closest";
+    case Query::kClosest:
+      break;
+  }
+  return "intersect";
 }
 
 // The batch query of `set` (any hit for shadow rays, closest hit otherwise,
@@ -239,6 +254,8 @@ QueryTimes time_query(const std::vector<Ray>& set, Query query, const Intersecto
       case Query::kCount:
         return b->count(set, counts);
       case Query::kClosest:
+      case Query::kInside:
+      case Query::kClosestPoint:
         break;
     }
     b->intersect(set, hits);
@@ -253,12 +270,30 @@ QueryTimes time_query(const std::vector<Ray>& set, Query query, const Intersecto
   return {t[0], t[1], runs > 0 ? double(exact_fallback_count() - exact_before) / runs : 0.0};
 }
 
-void add_ray_row(Table& rays, const std::string& scene_label, RayKind kind, Query query, size_t n,
-                 int threads, int reps, const QueryTimes& q) {
+// The point query of `points` (inside/outside, or the closest point with no
+// distance bound) through bvh and embree, repetitions alternating.
+QueryTimes time_point_query(const std::vector<Vec3f>& points, Query query, const Intersector& bvh,
+                            const Intersector& embree, int reps) {
+  std::vector<PointLocation> where(points.size());
+  std::vector<ClosestPoint> nearest(points.size());
+  auto run = [&](const Intersector* b) {
+    if (query == Query::kInside)
+      b->locate(points, where);
+    else
+      b->closest(points, std::numeric_limits<float>::infinity(), nearest);
+  };
+  auto trace = [&](const Intersector* b) { return timed_sample([&, b] { run(b); }); };
+  const std::vector<TimingStats> t = run_round_robin({{reps, trace(&bvh)}, {reps, trace(&embree)}});
+  return {t[0], t[1], 0.0};
+}
+
+// `kind`: the ray kind, or "points-<kind>" for a point query's rows.
+void add_ray_row(Table& rays, const std::string& scene_label, const std::string& kind, Query query,
+                 size_t n, int threads, int reps, const QueryTimes& q) {
   const TimingStats &tb = q.bvh, &te = q.embree;
   auto row = rays.new_row();
   row.set("scene", scene_label)
-      .set("ray_kind", std::string(to_string(kind)))
+      .set("ray_kind", kind)
       .set("query", to_string(query))
       .set("rays", n)
       .set("threads", threads)
@@ -291,18 +326,35 @@ MemoryRow time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t 
     const BackendOptions eo = backend_options(ours, 1, threads);
     auto bvh = make_intersector(bo.backend, bo);
     auto embree = make_intersector(eo.backend, eo);
+    // The counting and point queries need the watertight bvh test.
+    const bool counts_points =
+        ours.backend == "bvh" && bo.triangle_test == TriangleTestKind::kWatertight;
     bvh->build(in.scene);
     embree->build(in.scene);
     for (RayKind kind : kKinds) {
       const std::vector<Ray> set = make_rays(in.scene, kind, n_rays, 1, embree.get());
       const Query query = kind == RayKind::kShadow ? Query::kAny : Query::kClosest;
-      add_ray_row(rays, in.label, kind, query, set.size(), threads, reps,
+      const std::string name(to_string(kind));
+      add_ray_row(rays, in.label, name, query, set.size(), threads, reps,
                   time_query(set, query, *bvh, *embree, reps));
       // Crossing counts (every hit along the ray) on the same random rays.
-      if (kind == RayKind::kRandom && ours.backend == "bvh")
-        add_ray_row(rays, in.label, kind, Query::kCount, set.size(), threads, reps,
+      if (kind == RayKind::kRandom && counts_points)
+        add_ray_row(rays, in.label, name, Query::kCount, set.size(), threads, reps,
                     time_query(set, Query::kCount, *bvh, *embree, reps));
       progress.advance();
+    }
+    // Point queries: inside/outside of random points in the scene's box and
+    // of points on the surface; closest points (fewer: each is a search).
+    for (PointKind kind : {PointKind::kRandom, PointKind::kNear}) {
+      if (!counts_points) break;
+      const std::string name = "points-" + std::string(to_string(kind));
+      const std::vector<Vec3f> points = make_points(in.scene, kind, n_rays, 1);
+      add_ray_row(rays, in.label, name, Query::kInside, points.size(), threads, reps,
+                  time_point_query(points, Query::kInside, *bvh, *embree, reps));
+      const std::vector<Vec3f> few(points.begin(),
+                                   points.begin() + std::max<size_t>(1, points.size() / 10));
+      add_ray_row(rays, in.label, name, Query::kClosestPoint, few.size(), threads, reps,
+                  time_point_query(few, Query::kClosestPoint, *bvh, *embree, reps));
     }
     const double tris = double(in.scene.triangle_count());
     return MemoryRow{double(bvh->info().memory_bytes) / tris,
@@ -355,7 +407,13 @@ void add_notes(BenchReport& report, Table& render, Table& rays,
       "primary hits; diffuse = cosine-weighted bounce rays at primary hits (a path tracer's "
       "incoherent secondary rays); random = incoherent origins and directions; query count = "
       "the crossings along each random ray (every hit, Intersector::count; embree: a context "
-      "filter function that records and rejects each hit). Scenes and the "
+      "filter function that records and rejects each hit); points-random (uniform in the scene's "
+      "box "
+      "enlarged by 10%) and points-near (on the triangles, rounded to float), rays = points: "
+      "query inside = inside/outside/on the surface (embree: parity of crossings from its counting "
+      "filter, on the surface where rtcPointQuery finds distance 0), query closest = the nearest "
+      "surface point of a tenth of those points, no distance bound (embree: rtcPointQuery with a "
+      "closest-point callback). Scenes and the "
       "large-mesh suite (rows named bumpy-, soup-, sheet- and by mesh file) alike. "
       "bvh_exact_per_mray = triangle tests of the bvh backend's watertight test whose edge "
       "function signs its double error bound could not decide and exact arithmetic did, per "
