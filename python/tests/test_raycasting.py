@@ -365,3 +365,39 @@ def test_point_queries_bad_input_and_edge_cases():
     mt.add_triangles(*cube())
     with pytest.raises(hprt.Error, match="watertight"):
         mt.compute_occupancy([[0, 0, 0]])
+
+
+def expected_normals(geoms, gids, pids):
+    """Unit (b - a) x (c - a) of each named triangle, numpy in double."""
+    out = np.zeros((len(pids), 3))
+    for k, (g, p) in enumerate(zip(gids, pids)):
+        if p == hprt.RaycastingScene.INVALID_ID:
+            continue
+        v, t = geoms[g]
+        a, b, c = (v[i].astype(np.float64) for i in t[p])
+        n = np.cross(b - a, c - a)
+        out[k] = n / np.linalg.norm(n)
+    return out
+
+
+def test_normals_of_many_hits_and_closest_points_over_two_geometries():
+    # Enough queries that the normals' prefetching pipeline runs in full,
+    # over two meshes (ids, hits and misses interleaved).
+    scene = hprt.RaycastingScene()
+    geoms = [grid(16), cube()]
+    for v, t in geoms:
+        scene.add_triangles(v, t)
+    rng = np.random.default_rng(7)
+    n = 20_000
+    org = rng.uniform(-2.0, 2.0, (n, 3)).astype(np.float32)
+    dirs = rng.normal(size=(n, 3)).astype(np.float32)
+    ans = scene.cast_rays(np.hstack([org, dirs]))
+    gids, pids = ans["geometry_ids"], ans["primitive_ids"]
+    assert (pids != hprt.RaycastingScene.INVALID_ID).sum() > n // 4
+    assert set(gids[pids != hprt.RaycastingScene.INVALID_ID].tolist()) == {0, 1}
+    np.testing.assert_allclose(ans["primitive_normals"], expected_normals(geoms, gids, pids),
+                               atol=1e-6)
+    c = scene.compute_closest_points(org)
+    np.testing.assert_allclose(c["primitive_normals"],
+                               expected_normals(geoms, c["geometry_ids"], c["primitive_ids"]),
+                               atol=1e-6)
