@@ -174,14 +174,21 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
   std::multiset<std::string> kinds;
   std::map<std::string, int> rows_per_input;
   size_t counts = 0;
+  std::map<std::string, int> point_rows;  // "points-<kind> <query>"
   for (const auto& row : rays.rows) {
     kinds.insert(row.at("ray_kind"));
     ++rows_per_input[row.at("scene")];
-    EXPECT_EQ(row.at("rays"), "2000");
     EXPECT_GT(number(row.at("bvh_mrays_per_s")), 0.0);
     EXPECT_GT(number(row.at("embree_mrays_per_s")), 0.0);
     EXPECT_GT(number(row.at("bvh_over_embree")), 0.0);
     EXPECT_GE(number(row.at("bvh_exact_per_mray")), 0.0);
+    if (row.at("ray_kind").starts_with("points-")) {
+      // Inside on every point, closest on a tenth of them.
+      ++point_rows[row.at("ray_kind") + " " + row.at("query")];
+      EXPECT_EQ(row.at("rays"), row.at("query") == "closest" ? "200" : "2000");
+      continue;
+    }
+    EXPECT_EQ(row.at("rays"), "2000");
     if (row.at("query") == "count") {
       EXPECT_EQ(row.at("ray_kind"), "random");
       ++counts;
@@ -190,15 +197,20 @@ TEST_F(Bench, TraceQuickHasBothBackendsAndEveryRayKind) {
     EXPECT_EQ(row.at("query"), row.at("ray_kind") == "shadow" ? "occluded" : "intersect");
   }
   // The scene and the large-mesh suite (generated bumpy sphere, soup and
-  // sliver sheet, and the mesh given): every kind and the crossing counts of
-  // the random rays, at 1 and 2 threads.
-  const std::map<std::string, int> expected_inputs{{"scene.json", 12},
-                                                   {"bumpy-2000", 12},
-                                                   {"soup-2000", 12},
-                                                   {"sheet-3200", 12},
-                                                   {"extra.ply", 12}};
+  // sliver sheet, and the mesh given): every kind, the crossing counts of
+  // the random rays and the four point-query rows, at 1 and 2 threads.
+  const std::map<std::string, int> expected_inputs{{"scene.json", 20},
+                                                   {"bumpy-2000", 20},
+                                                   {"soup-2000", 20},
+                                                   {"sheet-3200", 20},
+                                                   {"extra.ply", 20}};
   EXPECT_EQ(rows_per_input, expected_inputs);
   EXPECT_EQ(counts, 10u);
+  const std::map<std::string, int> expected_points{{"points-random inside", 10},
+                                                   {"points-random closest", 10},
+                                                   {"points-near inside", 10},
+                                                   {"points-near closest", 10}};
+  EXPECT_EQ(point_rows, expected_points);
   for (const char* k : {"primary", "shadow", "reflection", "diffuse"})
     EXPECT_EQ(kinds.count(k), 10u) << k;
   EXPECT_EQ(kinds.count("random"), 20u);

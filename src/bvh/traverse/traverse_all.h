@@ -19,6 +19,7 @@
 #include "bvh/layout/bvh2.h"
 #include "bvh/layout/wide_bvh.h"
 #include "bvh/traverse/traverse_wide.h"
+#include "bvh/traverse/unordered_stack.h"
 #include "core/ray.h"
 
 namespace hprt {
@@ -84,11 +85,11 @@ void traverse_all(const WideBvh<N>& bvh, const Ray& ray, Visit&& visit, float le
   if (bvh.empty()) return;
   const WideSlabRay slab(ray);
   const typename Test::Prepared prep = Test::prepare(ray, bvh.bounds);
-  uint64_t stack[1 + (N - 1) * kMaxBuildDepth + N];
-  int sp = 0;
-  stack[sp++] = bvh.root.bits;
-  while (sp > 0) {
-    const NodeRef cur{stack[--sp]};
+  detail::UnorderedStack<N> stack;  // no order needed: unordered_stack.h
+  stack.push(bvh.root.bits);
+  while (!stack.empty()) {
+    const uint64_t bits = stack.pop();
+    const NodeRef cur{bits};
     if (cur.is_leaf()) {
       detail::visit_leaf_hits<Test>(prep, bvh.triangles, cur.leaf_range(), leaf_tnear, ray.tfar,
                                     visit);
@@ -103,7 +104,7 @@ void traverse_all(const WideBvh<N>& bvh, const Ray& ray, Visit&& visit, float le
         Test::prefetch(bvh.triangles, c.leaf_range());
       else
         detail::prefetch_node(&bvh.nodes[c.index()]);
-      stack[sp++] = c.bits;
+      stack.push(c.bits);
     }
   }
 }
