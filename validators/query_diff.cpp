@@ -150,23 +150,44 @@ ClosestPoint exact_closest(const Scene& scene, const Vec3f& p, float max_distanc
   return keep_within(to_closest_point(at, bg, bp), max_distance);
 }
 
+namespace {
+
+// The diff of one query kind: answer(intersector, out) fills one T per
+// query on each side; exact(i) is the right answer of query i (judged only
+// where the two sides differ by `same`).
+template <typename T, typename Answer, typename Same, typename Exact>
+QueryDiffResult run_diff(QueryKind kind, size_t queries, const Scene& scene,
+                         const Intersector& backend, const Intersector& reference,
+                         const QueryDiffOptions& opts, Answer&& answer, Same&& same,
+                         Exact&& exact) {
+  QueryDiffResult r;
+  r.kind = kind;
+  r.queries = queries;
+  std::vector<T> a(queries), b(queries);
+  answer(backend, a);
+  answer(reference, b);
+  settle(r, disputed_indices(a, b, same), scene, opts, [&](size_t i) {
+    const T e = exact(i);
+    return std::pair<bool, bool>{same(a[i], e), same(b[i], e)};
+  });
+  return r;
+}
+
+}  // namespace
+
 QueryDiffResult run_count_diff(const Scene& scene, std::span<const Ray> rays,
                                const Intersector& backend, const Intersector& reference,
                                const QueryDiffOptions& opts) {
-  QueryDiffResult r;
-  r.kind = QueryKind::kCount;
-  r.queries = rays.size();
-  std::vector<uint32_t> a(rays.size()), b(rays.size());
-  backend.count(rays, a);
-  reference.count(rays, b);
-  const std::vector<size_t> disputed = disputed_indices(a, b, equal);
   std::atomic<size_t> fill_rule{0};
-  settle(r, disputed, scene, opts, [&](size_t i) {
-    bool through_edge = false;
-    const uint32_t n = exact_count(scene, rays[i], &through_edge);
-    fill_rule += through_edge;
-    return std::pair<bool, bool>{a[i] == n, b[i] == n};
-  });
+  QueryDiffResult r = run_diff<uint32_t>(
+      QueryKind::kCount, rays.size(), scene, backend, reference, opts,
+      [&](const Intersector& x, std::vector<uint32_t>& out) { x.count(rays, out); }, equal,
+      [&](size_t i) {
+        bool through_edge = false;
+        const uint32_t n = exact_count(scene, rays[i], &through_edge);
+        fill_rule += through_edge;
+        return n;
+      });
   r.fill_rule = fill_rule;
   return r;
 }
@@ -174,38 +195,24 @@ QueryDiffResult run_count_diff(const Scene& scene, std::span<const Ray> rays,
 QueryDiffResult run_inside_diff(const Scene& scene, std::span<const Vec3f> points,
                                 const Intersector& backend, const Intersector& reference,
                                 const QueryDiffOptions& opts) {
-  QueryDiffResult r;
-  r.kind = QueryKind::kInside;
-  r.queries = points.size();
-  std::vector<PointLocation> a(points.size()), b(points.size());
-  backend.locate(points, a);
-  reference.locate(points, b);
-  const std::vector<size_t> disputed = disputed_indices(a, b, equal);
-  settle(r, disputed, scene, opts, [&](size_t i) {
-    const PointLocation e = exact_location(scene, points[i], 1000 + i);
-    return std::pair<bool, bool>{a[i] == e, b[i] == e};
-  });
-  return r;
+  return run_diff<PointLocation>(
+      QueryKind::kInside, points.size(), scene, backend, reference, opts,
+      [&](const Intersector& x, std::vector<PointLocation>& out) { x.locate(points, out); }, equal,
+      [&](size_t i) { return exact_location(scene, points[i], 1000 + i); });
 }
 
 QueryDiffResult run_closest_diff(const Scene& scene, std::span<const Vec3f> points,
                                  const Intersector& backend, const Intersector& reference,
                                  const QueryDiffOptions& opts) {
-  QueryDiffResult r;
-  r.kind = QueryKind::kClosest;
-  r.queries = points.size();
-  std::vector<ClosestPoint> a(points.size()), b(points.size());
-  backend.closest(points, opts.max_distance, a);
-  reference.closest(points, opts.max_distance, b);
   const auto same = [](const ClosestPoint& x, const ClosestPoint& y) {
     return x.geom_id == y.geom_id && x.prim_id == y.prim_id && x.distance == y.distance;
   };
-  const std::vector<size_t> disputed = disputed_indices(a, b, same);
-  settle(r, disputed, scene, opts, [&](size_t i) {
-    const ClosestPoint e = exact_closest(scene, points[i], opts.max_distance);
-    return std::pair<bool, bool>{same(a[i], e), same(b[i], e)};
-  });
-  return r;
+  return run_diff<ClosestPoint>(
+      QueryKind::kClosest, points.size(), scene, backend, reference, opts,
+      [&](const Intersector& x, std::vector<ClosestPoint>& out) {
+        x.closest(points, opts.max_distance, out);
+      },
+      same, [&](size_t i) { return exact_closest(scene, points[i], opts.max_distance); });
 }
 
 std::string query_diff_summary(const QueryDiffResult& r, const std::string& backend,

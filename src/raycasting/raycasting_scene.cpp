@@ -15,7 +15,7 @@ namespace hprt::raycasting {
 namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
-constexpr size_t kGrain = 4096;   // rays per task of the conversions
+constexpr size_t kGrain = 4096;    // rays per task of the conversions
 constexpr size_t kChunk = 262144;  // rays per chunk of a query (cast_rays)
 
 // Runs f in an arena of `threads` (0 = every hardware thread).
