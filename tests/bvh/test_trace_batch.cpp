@@ -79,6 +79,31 @@ TEST(TraceBatch, MollerEqualsSingleRaysInEveryLayout) {
   check_every_layout<MollerTest>(TriangleTestKind::kMoller);
 }
 
+// Wide trees of at least kInterleaveMinBytes trace the rays no packet takes
+// several at a time (traverse_interleaved.h): the same answers.
+TEST(TraceBatch, LargeTreeTracedInterleavedEqualsSingleRays) {
+  test::BuiltBvh b = test::build_flat({generate_bumpy_sphere(320000, 3)}, {});
+  const AABB box = b.scene.bounds();
+  std::vector<Ray> rays = test::random_rays(box, 4001, 13);
+  const std::vector<Ray> coherent = test::coherent_rays(box, 32, 16);
+  rays.insert(rays.end(), coherent.begin(), coherent.end());
+  rays[7].dir = Vec3f(0.0f);
+  rays[100].tfar = 0.0f;
+  for (const auto arrays : {TriangleArrays::kVerts, TriangleArrays::kEdges}) {
+    const auto bvh8 = flatten_wide<8>(b.tree, b.prims, b.scene, arrays);
+    const auto bvh4 = flatten_wide<4>(b.tree, b.prims, b.scene, arrays);
+    ASSERT_GE(bvh8.memory_bytes(), kInterleaveMinBytes);
+    ASSERT_GE(bvh4.memory_bytes(), kInterleaveMinBytes);
+    if (arrays == TriangleArrays::kVerts) {
+      expect_batch_equals_single_rays<WatertightTest>(bvh8, TriangleTestKind::kWatertight, rays);
+      expect_batch_equals_single_rays<WatertightTest>(bvh4, TriangleTestKind::kWatertight, rays);
+    } else {
+      expect_batch_equals_single_rays<MollerTest>(bvh8, TriangleTestKind::kMoller, rays);
+      expect_batch_equals_single_rays<MollerTest>(bvh4, TriangleTestKind::kMoller, rays);
+    }
+  }
+}
+
 TEST(TraceBatch, EmptyBatchAndEmptyTree) {
   test::BuiltBvh none = test::build_flat({}, {});
   std::vector<Ray> rays = test::random_rays(AABB(Vec3f(0.0f), Vec3f(1.0f)), 40, 1);

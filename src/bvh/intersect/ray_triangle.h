@@ -28,6 +28,7 @@
 #include "bvh/layout/leaf_triangles.h"
 #include "core/aabb.h"
 #include "core/force_inline.h"
+#include "core/prefetch.h"
 #include "core/ray.h"
 #include "core/vec.h"
 
@@ -148,9 +149,7 @@ struct WatertightTest {
 
   // Requests the cache lines of the leaf's verts block (its rows span it).
   HPRT_FORCE_INLINE static void prefetch(const LeafTriangles& tris, const LeafRange& leaf) {
-    const char* b = reinterpret_cast<const char*>(tris.vert_row(leaf.block_first, 0, 0));
-    __builtin_prefetch(b);
-    __builtin_prefetch(b + 9 * sizeof(float) * leaf.block_count - 1);
+    prefetch_lines(tris.vert_row(leaf.block_first, 0, 0), 9 * sizeof(float) * leaf.block_count);
   }
 
   // Triangle i of `leaf`: the nine coordinates the test needs, one from each
@@ -198,9 +197,7 @@ struct MollerTest {
   }
 
   HPRT_FORCE_INLINE static void prefetch(const LeafTriangles& tris, const LeafRange& leaf) {
-    const char* b = reinterpret_cast<const char*>(tris.edges.data() + leaf.first);
-    __builtin_prefetch(b);
-    __builtin_prefetch(b + leaf.count * sizeof(TriangleEdges) - 1);
+    prefetch_lines(tris.edges.data() + leaf.first, leaf.count * sizeof(TriangleEdges));
   }
 
   // Triangle i (of any leaf: the edges are stored triangle by triangle).

@@ -18,6 +18,7 @@
 #include "bvh/layout/wide_bvh.h"
 #include "bvh/traverse/traverse_all.h"
 #include "bvh/traverse/traverse_bvh2.h"
+#include "bvh/traverse/traverse_interleaved.h"
 #include "bvh/traverse/traverse_packet.h"
 #include "bvh/traverse/traverse_point.h"
 #include "bvh/traverse/traverse_wide.h"
@@ -59,13 +60,29 @@ float packet_origin_tolerance(const Bvh& bvh) {
     return packet_origin_tolerance(bvh.bounds);
 }
 
-// kAnyHit writes `occluded`, otherwise `hits`.
+// kAnyHit writes `occluded`, otherwise `hits`. In a tree of at least
+// kInterleaveMinBytes the rays of a task that no packet takes are traced
+// several at a time (traverse_interleaved.h), in runs of up to
+// kInterleavedRun; otherwise ray by ray.
 template <typename Test, bool kAnyHit, typename Bvh>
 void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* occluded) {
+  constexpr bool kWide = !std::is_same_v<Bvh, Bvh2>;
+  constexpr size_t kInterleavedRun = 256;
   const float tolerance = packet_origin_tolerance(bvh);
+  bool interleave = false;
+  if constexpr (kWide) interleave = !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
   const size_t groups = (rays.size() + kRayGroup - 1) / kRayGroup;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, kRaysPerTask / kRayGroup),
                     [&](const tbb::blocked_range<size_t>& range) {
+                      size_t run[kInterleavedRun];
+                      size_t run_size = 0;
+                      const auto flush = [&] {
+                        if constexpr (kWide)
+                          if (run_size)
+                            traverse_wide_interleaved<Test, kAnyHit>(bvh, rays.data(), run,
+                                                                     run_size, hits, occluded);
+                        run_size = 0;
+                      };
                       for (size_t g = range.begin(); g != range.end(); ++g) {
                         const size_t first = g * kRayGroup;
                         const size_t count = std::min(kRayGroup, rays.size() - first);
@@ -81,6 +98,11 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                             continue;
                           }
                         }
+                        if (interleave) {
+                          if (run_size + count > kInterleavedRun) flush();
+                          for (size_t i = first; i < first + count; ++i) run[run_size++] = i;
+                          continue;
+                        }
                         for (size_t i = first; i < first + count; ++i) {
                           Hit h;
                           const bool found =
@@ -91,6 +113,7 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                             hits[i] = h;
                         }
                       }
+                      flush();
                     });
 }
 

@@ -15,6 +15,7 @@
 #include "bvh/intersect/ray_box_wide.h"
 #include "bvh/layout/wide_bvh.h"
 #include "bvh/traverse/traverse_bvh2.h"
+#include "core/prefetch.h"
 
 namespace hprt {
 
@@ -26,10 +27,86 @@ struct WideStackEntry {
   float entry;
 };
 
+// Each wide level pushes at most N - 1 entries and the tree is no deeper
+// than the binary tree it was collapsed from.
 template <int N>
-inline void prefetch_node(const WideNode<N>* node) {
-  const char* p = reinterpret_cast<const char*>(node);
-  for (int line = 0; line < int(sizeof(WideNode<N>)); line += 64) __builtin_prefetch(p + line);
+inline constexpr int kWideStackSize = 1 + (N - 1) * kMaxBuildDepth;
+
+template <int N>
+HPRT_FORCE_INLINE void prefetch_node(const WideNode<N>* node) {
+  prefetch_lines(node, sizeof(WideNode<N>));
+}
+}  // namespace detail
+
+namespace detail {
+// One inner node of a closest-hit or any-hit traversal: tests the ray
+// against its children, pushes the hit ones it does not enter (ordered as
+// the file's comment says) and returns the one to enter next, or an empty
+// ref when no child is hit (the caller pops). kPrefetchChildren requests
+// every hit child's lines (a single ray waits for the one it enters next
+// anyway; traverse_interleaved.h prefetches only that one, early).
+template <typename Test, bool kAnyHit, bool kPrefetchChildren, int N>
+HPRT_FORCE_INLINE NodeRef visit_wide_node(const WideBvh<N>& bvh, const WideNode<N>& node,
+                                          const WideSlabRay& slab, float tnear, float tfar,
+                                          WideStackEntry* stack, int& sp) {
+  alignas(32) float dist[N];
+  unsigned mask = slab_wide<N>(slab, node, tnear, tfar, dist);
+  if constexpr (kPrefetchChildren)
+    for (unsigned m = mask; m; m &= m - 1) {
+      const NodeRef c = node.child[__builtin_ctz(m)];
+      if (c.is_leaf())
+        Test::prefetch(bvh.triangles, c.leaf_range());
+      else
+        prefetch_node(&bvh.nodes[c.index()]);
+    }
+  if (mask == 0) return NodeRef{};
+  const int i0 = __builtin_ctz(mask);
+  mask &= mask - 1;
+  if (mask == 0) return node.child[i0];
+  const int i1 = __builtin_ctz(mask);
+  mask &= mask - 1;
+  if (mask == 0) {
+    const bool first_near = dist[i0] <= dist[i1];
+    const int near = first_near ? i0 : i1, far = first_near ? i1 : i0;
+    stack[sp++] = {node.child[far].bits, dist[far]};
+    return node.child[near];
+  }
+  if constexpr (kAnyHit) {
+    // Any hit ends the query, so no order is worth sorting for (as
+    // Embree's occluded traversal): enter the first, push the rest.
+    stack[sp++] = {node.child[i1].bits, dist[i1]};
+    for (; mask; mask &= mask - 1) {
+      const int i = __builtin_ctz(mask);
+      stack[sp++] = {node.child[i].bits, dist[i]};
+    }
+    return node.child[i0];
+  }
+  // Three or more: push all, insertion-sort the pushed run so entry
+  // distances decrease towards the top, enter the nearest.
+  const int base = sp;
+  stack[sp++] = {node.child[i0].bits, dist[i0]};
+  stack[sp++] = {node.child[i1].bits, dist[i1]};
+  for (; mask; mask &= mask - 1) {
+    const int i = __builtin_ctz(mask);
+    stack[sp++] = {node.child[i].bits, dist[i]};
+  }
+  for (int a = base + 1; a < sp; ++a) {
+    const WideStackEntry e = stack[a];
+    int b = a;
+    for (; b > base && stack[b - 1].entry < e.entry; --b) stack[b] = stack[b - 1];
+    stack[b] = e;
+  }
+  return NodeRef{stack[--sp].ref};
+}
+
+// The next stack entry that may still hold a hit closer than tfar, or an
+// empty ref when none is left.
+HPRT_FORCE_INLINE NodeRef pop_closer(const WideStackEntry* stack, int& sp, float tfar) {
+  while (sp > 0) {
+    const WideStackEntry& e = stack[--sp];
+    if (e.entry <= tfar) return NodeRef{e.ref};
+  }
+  return NodeRef{};
 }
 }  // namespace detail
 
@@ -43,87 +120,20 @@ HPRT_FORCE_INLINE bool traverse_wide_from(const WideBvh<N>& bvh, NodeRef start,
                                           const typename Test::Prepared& prep, float tnear,
                                           float& tfar, ClosestHit& closest,
                                           TraversalStats* stats = nullptr) {
-  const WideNode<N>* nodes = bvh.nodes.data();
-  const LeafTriangles& tris = bvh.triangles;
-
-  // Each wide level pushes at most N - 1 entries and the tree is no deeper
-  // than the binary tree it was collapsed from.
-  detail::WideStackEntry stack[1 + (N - 1) * kMaxBuildDepth];
+  detail::WideStackEntry stack[detail::kWideStackSize<N>];
   int sp = 0;
   NodeRef cur = start;
   for (;;) {
     while (cur.is_inner()) {
       if constexpr (kStats) ++stats->nodes;
-      const WideNode<N>& node = nodes[cur.index()];
-      alignas(32) float dist[N];
-      unsigned mask = slab_wide<N>(slab, node, tnear, tfar, dist);
-      for (unsigned m = mask; m; m &= m - 1) {
-        const int i = __builtin_ctz(m);
-        const NodeRef c = node.child[i];
-        if (c.is_leaf())
-          Test::prefetch(tris, c.leaf_range());
-        else
-          detail::prefetch_node(&nodes[c.index()]);
-      }
-      if (mask == 0) {
-        cur = NodeRef{};
-        break;
-      }
-      const int i0 = __builtin_ctz(mask);
-      mask &= mask - 1;
-      if (mask == 0) {
-        cur = node.child[i0];
-        continue;
-      }
-      const int i1 = __builtin_ctz(mask);
-      mask &= mask - 1;
-      if (mask == 0) {
-        const bool first_near = dist[i0] <= dist[i1];
-        const int near = first_near ? i0 : i1, far = first_near ? i1 : i0;
-        stack[sp++] = {node.child[far].bits, dist[far]};
-        cur = node.child[near];
-        continue;
-      }
-      if constexpr (kAnyHit) {
-        // Any hit ends the query, so no order is worth sorting for (as
-        // Embree's occluded traversal): enter the first, push the rest.
-        stack[sp++] = {node.child[i1].bits, dist[i1]};
-        for (; mask; mask &= mask - 1) {
-          const int i = __builtin_ctz(mask);
-          stack[sp++] = {node.child[i].bits, dist[i]};
-        }
-        cur = node.child[i0];
-        continue;
-      }
-      // Three or more: push all, insertion-sort the pushed run so entry
-      // distances decrease towards the top, enter the nearest.
-      const int base = sp;
-      stack[sp++] = {node.child[i0].bits, dist[i0]};
-      stack[sp++] = {node.child[i1].bits, dist[i1]};
-      for (; mask; mask &= mask - 1) {
-        const int i = __builtin_ctz(mask);
-        stack[sp++] = {node.child[i].bits, dist[i]};
-      }
-      for (int a = base + 1; a < sp; ++a) {
-        const detail::WideStackEntry e = stack[a];
-        int b = a;
-        for (; b > base && stack[b - 1].entry < e.entry; --b) stack[b] = stack[b - 1];
-        stack[b] = e;
-      }
-      cur = NodeRef{stack[--sp].ref};
+      cur = detail::visit_wide_node<Test, kAnyHit, true>(bvh, bvh.nodes[cur.index()], slab, tnear,
+                                                         tfar, stack, sp);
     }
-    if (cur.is_leaf() && intersect_leaf<Test, kAnyHit, kStats>(prep, tris, cur.leaf_range(), tnear,
-                                                               tfar, closest, stats))
+    if (cur.is_leaf() && intersect_leaf<Test, kAnyHit, kStats>(
+                             prep, bvh.triangles, cur.leaf_range(), tnear, tfar, closest, stats))
       return true;
-    // Pop the next entry that may still hold a closer hit.
-    for (;;) {
-      if (sp == 0) return false;
-      const detail::WideStackEntry e = stack[--sp];
-      if (e.entry <= tfar) {
-        cur = NodeRef{e.ref};
-        break;
-      }
-    }
+    cur = detail::pop_closer(stack, sp, tfar);
+    if (cur.empty()) return false;
   }
 }
 

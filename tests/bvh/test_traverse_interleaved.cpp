@@ -1,0 +1,113 @@
+// Several rays in flight (bvh/traverse/traverse_interleaved.h) answer each
+// ray bit for bit as traverse_wide does alone, closest and any hit, in both
+// wide layouts and for both triangle tests: whatever order and number of
+// rays it is given (fewer than the slots, one, none), with invalid rays,
+// bounded intervals, a tree that is a single leaf, and rays that end while
+// others are still in flight. It writes exactly the rays it is given.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <limits>
+#include <numeric>
+#include <vector>
+
+#include "bvh/intersect/ray_triangle.h"
+#include "bvh/layout/flatten_wide.h"
+#include "bvh/traverse/traverse_interleaved.h"
+#include "bvh/traverse/traverse_wide.h"
+#include "meshgen/mesh_generators.h"
+#include "tests/support/bvh_trace_helpers.h"
+
+namespace hprt {
+namespace {
+
+bool same_hit(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
+
+// Random rays with some made invalid and some with bounded, shifted
+// intervals, so rays end after very different numbers of turns.
+std::vector<Ray> mixed_rays(const AABB& box, size_t n, uint64_t seed) {
+  std::vector<Ray> rays = test::random_rays(box, n, seed);
+  const float d = length(box.diagonal());
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (i % 37 == 5) rays[i].dir = Vec3f(0.0f);
+    if (i % 41 == 7) rays[i].org.y = std::numeric_limits<float>::quiet_NaN();
+    if (i % 5 == 1) rays[i].tfar = 0.3f * d;
+    if (i % 7 == 2) rays[i].tnear = 0.2f * d;
+  }
+  return rays;
+}
+
+template <typename Test, int N>
+void expect_same_as_alone(const WideBvh<N>& bvh, const std::vector<Ray>& rays,
+                          const std::vector<size_t>& order) {
+  const Hit sentinel{42.0f, 0.5f, 0.5f, 7, 7};
+  std::vector<Hit> hits(rays.size(), sentinel);
+  std::vector<uint8_t> occluded(rays.size(), 9);
+  traverse_wide_interleaved<Test, false>(bvh, rays.data(), order.data(), order.size(), hits.data(),
+                                         nullptr);
+  traverse_wide_interleaved<Test, true>(bvh, rays.data(), order.data(), order.size(), nullptr,
+                                        occluded.data());
+  std::vector<bool> given(rays.size(), false);
+  for (size_t i : order) given[i] = true;
+  size_t hit_count = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    if (!given[i]) {  // untouched
+      ASSERT_TRUE(same_hit(hits[i], sentinel)) << "ray " << i;
+      ASSERT_EQ(occluded[i], 9) << "ray " << i;
+      continue;
+    }
+    Hit want, any;
+    const bool valid = ray_is_valid(rays[i]);
+    if (valid) traverse_wide<Test, false>(bvh, rays[i], want);
+    const bool occ = valid && traverse_wide<Test, true>(bvh, rays[i], any);
+    ASSERT_TRUE(same_hit(hits[i], want)) << "ray " << i;
+    ASSERT_EQ(occluded[i], occ ? 1 : 0) << "ray " << i;
+    hit_count += want.hit();
+  }
+  if (order.size() > 100) {
+    EXPECT_GT(hit_count, order.size() / 10);  // the rays do meet the mesh
+  }
+}
+
+template <typename Test>
+void check_layouts(const std::vector<TriangleMesh>& meshes, TriangleArrays arrays) {
+  test::BuiltBvh b = test::build_flat(meshes, {});
+  const std::vector<Ray> rays = mixed_rays(b.scene.bounds(), 2000, 3);
+  std::vector<size_t> all(rays.size());
+  std::iota(all.begin(), all.end(), size_t{0});
+  std::vector<size_t> shuffled = all;
+  test::Rng rng(11);
+  for (size_t i = shuffled.size(); i > 1; --i)
+    std::swap(shuffled[i - 1], shuffled[size_t(rng.uniform() * double(i)) % i]);
+  std::vector<size_t> few = {17, 3, 1999};  // fewer rays than slots
+  std::vector<size_t> none;
+  const auto bvh4 = flatten_wide<4>(b.tree, b.prims, b.scene, arrays);
+  const auto bvh8 = flatten_wide<8>(b.tree, b.prims, b.scene, arrays);
+  for (const auto* order : {&all, &shuffled, &few, &none}) {
+    expect_same_as_alone<Test>(bvh4, rays, *order);
+    expect_same_as_alone<Test>(bvh8, rays, *order);
+  }
+}
+
+TEST(TraverseInterleaved, WatertightSameAsAloneOnSphereAndSoup) {
+  check_layouts<WatertightTest>({generate_sphere(6000), test::random_soup(4000, 5)},
+                                TriangleArrays::kVerts);
+}
+
+TEST(TraverseInterleaved, MollerSameAsAloneOnSphereAndSoup) {
+  check_layouts<MollerTest>({generate_sphere(6000), test::random_soup(4000, 5)},
+                            TriangleArrays::kEdges);
+}
+
+TEST(TraverseInterleaved, SliversWhereRaysVisitManyNodes) {
+  check_layouts<WatertightTest>({generate_sliver_sheet(3000, 2)}, TriangleArrays::kVerts);
+}
+
+TEST(TraverseInterleaved, TreeThatIsOneLeaf) {
+  // Two triangles: the root is a leaf, so every ray's first turn is a leaf.
+  check_layouts<WatertightTest>({generate_sphere(2)}, TriangleArrays::kVerts);
+}
+
+}  // namespace
+}  // namespace hprt
