@@ -27,9 +27,7 @@ namespace hprt {
 // Trees from this size on (about 250k triangles) are traced several rays at
 // a time: most of their nodes come from memory, a wait that the other rays'
 // work hides. A smaller tree stays in the caches, where the interleaving
-// only adds its bookkeeping to each ray (measured on 50k- and 113k-triangle
-// scans, 3 and 7 MB: reflection and diffuse rays 0.85x as fast interleaved,
-// random rays 1.1x).
+// mostly adds its bookkeeping to each ray (docs/ARCHITECTURE.md section 3).
 inline constexpr size_t kInterleaveMinBytes = size_t{16} << 20;
 
 // Closest hits: hits[i] for rays[i] (hits has at least rays.size() slots).
