@@ -240,6 +240,7 @@ py::dict info(const PyScene& s) {
   d["backend"] = i.backend;
   d["build_ms"] = i.build_ms;
   d["memory_bytes"] = i.memory_bytes;
+  d["normals_bytes"] = i.normals_bytes;
   d["geometries"] = i.meshes;
   d["triangles"] = i.triangles;
   d["malformed_answers"] = i.malformed_answers;
@@ -362,7 +363,10 @@ PYBIND11_MODULE(hprt, m) {
           py::arg("query_points"), py::arg("nthreads") = 0, py::arg("nsamples") = 1,
           "1.0 for points inside a closed mesh or exactly on its surface, else 0.0 (float32); "
           "exact on the bvh backend, nsamples as in compute_signed_distance")
-      .def("info", &info, "backend configuration, build time, memory, geometry counts")
+      .def("info", &info,
+           "backend configuration, build time, memory (memory_bytes: the backend's structure; "
+           "normals_bytes: the triangle normals cast_rays and compute_closest_points keep, 12 "
+           "bytes per triangle once made), geometry counts")
       .def_static(
           "create_rays_pinhole",
           [](double fov_deg, const py::handle& center, const py::handle& eye, const py::handle& up,

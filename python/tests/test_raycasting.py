@@ -105,6 +105,61 @@ def test_arrays_are_used_in_place_and_update_triangles():
         assert scene.cast_rays(rays)["t_hit"][0] == pytest.approx(1.5)
 
 
+def test_normals_follow_moved_and_added_triangles():
+    # The per-triangle normals the scene keeps for cast_rays and
+    # compute_closest_points are remade after update_triangles and
+    # add_triangles, and info() reports their memory.
+    v, t = grid(8)
+    scene = hprt.RaycastingScene()
+    gid = scene.add_triangles(v, t)
+    assert scene.info()["normals_bytes"] == 0
+    rays = np.array([down(0.3, -0.2)], np.float32)
+    np.testing.assert_allclose(np.abs(scene.cast_rays(rays)["primitive_normals"][0]), [0, 0, 1],
+                               atol=1e-6)
+    assert scene.info()["normals_bytes"] == 12 * len(t)
+    tilted = v.copy()
+    tilted[:, 2] = 0.5 * v[:, 0]  # the plane z = x / 2
+    scene.update_triangles(gid, tilted)
+    ans = scene.cast_rays(rays)
+    assert ans["t_hit"][0] == pytest.approx(1.85)
+    n = ans["primitive_normals"][0] * np.sign(ans["primitive_normals"][0][2])
+    np.testing.assert_allclose(n, np.array([-0.5, 0.0, 1.0]) / math.sqrt(1.25), atol=1e-6)
+    cv, ct = cube()
+    cid = scene.add_triangles(cv, ct)
+    c = scene.compute_closest_points(cv[ct[0]].mean(axis=0, keepdims=True))
+    assert c["geometry_ids"][0] == cid
+    np.testing.assert_allclose(c["primitive_normals"],
+                               expected_normals([(tilted, t), (cv, ct)], c["geometry_ids"],
+                                                c["primitive_ids"]), atol=1e-6)
+    assert scene.info()["normals_bytes"] == 12 * (len(t) + len(ct))
+
+
+def test_queries_from_several_threads_at_once():
+    # The GIL is released during queries: threads that query a scene nobody
+    # has queried yet (backend and normals made by whichever comes first)
+    # all get the answers of a scene queried from one thread.
+    import threading
+    v, t = grid(32)
+    rng = np.random.default_rng(3)
+    org = np.hstack([rng.uniform(-1.2, 1.2, (5000, 2)), np.full((5000, 1), 2.0)])
+    rays = np.hstack([org, rng.normal(size=(5000, 3)) * [0.3, 0.3, 0.0] + [0, 0, -1]])
+    reference = hprt.RaycastingScene()
+    reference.add_triangles(v, t)
+    expected = reference.cast_rays(rays)
+    scene = hprt.RaycastingScene()
+    scene.add_triangles(v, t)
+    answers = [None] * 4
+    workers = [threading.Thread(target=lambda i=i: answers.__setitem__(i, scene.cast_rays(rays)))
+               for i in range(len(answers))]
+    for w in workers:
+        w.start()
+    for w in workers:
+        w.join()
+    for ans in answers:
+        for key in expected:
+            np.testing.assert_array_equal(ans[key], expected[key])
+
+
 def test_backend_options_and_plugins():
     v, t = grid(4)
     scene = hprt.RaycastingScene(builder="morton", layout="bvh4", leaf_size=2)

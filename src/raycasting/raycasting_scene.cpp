@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
+#include <mutex>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -33,6 +35,13 @@ void parallel_rays(size_t n, F&& f) {
                     });
 }
 
+// Per-chunk buffers, left uninitialised: the conversion writes every
+// element in parallel, where zeroing them first would be a serial pass.
+template <typename T>
+std::unique_ptr<T[]> scratch(size_t n) {
+  return std::make_unique_for_overwrite<T[]>(n);
+}
+
 void check_rays(std::span<const float> rays) {
   if (rays.size() % 6 != 0) throw std::invalid_argument("rays: not 6 floats per ray");
 }
@@ -52,6 +61,7 @@ uint32_t RaycastingScene::add_triangles(std::span<const float> vertices,
   const uint32_t id =
       shared ? scene_.add_mesh_shared(vertices, indices) : scene_.add_mesh(vertices, indices);
   stale_ = true;
+  normals_.reset();
   only_moved_ = false;
   return id;
 }
@@ -73,9 +83,11 @@ void RaycastingScene::update_triangles(uint32_t id, std::span<const float> verti
   scene_.set_vertices(id, vertices);
   if (!stale_) only_moved_ = true;
   stale_ = true;
+  normals_.reset();
 }
 
 api::Backend& RaycastingScene::built() {
+  const std::lock_guard lock(prepare_);
   if (stale_) {
     if (only_moved_)
       backend_->update(scene_);
@@ -87,6 +99,12 @@ api::Backend& RaycastingScene::built() {
   return *backend_;
 }
 
+const FaceNormals& RaycastingScene::face_normals() {
+  const std::lock_guard lock(prepare_);
+  if (!normals_) normals_ = std::make_unique<FaceNormals>(scene_);
+  return *normals_;
+}
+
 void RaycastingScene::convert(std::span<const float> rays, float tnear, float tfar, api::Ray* out) {
   parallel_rays(rays.size() / 6, [&](size_t i) {
     const float* r = rays.data() + 6 * i;
@@ -95,69 +113,6 @@ void RaycastingScene::convert(std::span<const float> rays, float tnear, float tf
 }
 
 namespace {
-
-// The geometric normals of the hits' triangles. Each reads an index triple
-// and three vertices of a random triangle, cache misses on a large mesh
-// (6 % of cast_rays on a 1M-triangle mesh), so for_each_normal requests the
-// indices of the item kAhead2 on and the vertices of the one kAhead1 on
-// before computing the current one. The arrays are fetched once per call.
-class HitNormals {
- public:
-  explicit HitNormals(const api::Scene& scene) {
-    for (uint32_t g = 0; g < scene.mesh_count(); ++g) {
-      vertices_.push_back(scene.vertices(g).data());
-      indices_.push_back(scene.indices(g).data());
-    }
-  }
-
-  struct Ref {
-    uint32_t geom_id, prim_id;  // prim_id kInvalidId: no triangle, a zero normal
-  };
-
-  // Writes the normal of item i's triangle tri(i) (a Ref) to out(i) (a
-  // float[3]) for every i in [begin, end).
-  template <typename Tri, typename Out>
-  void for_each_normal(size_t begin, size_t end, Tri&& tri, Out&& out) const {
-    constexpr size_t kAhead1 = 8, kAhead2 = 16;
-    for (size_t i = begin; i < end; ++i) {
-      if (i + kAhead2 < end) prefetch_indices(tri(i + kAhead2));
-      if (i + kAhead1 < end) prefetch_vertices(tri(i + kAhead1));
-      unit_normal(tri(i), out(i));
-    }
-  }
-
- private:
-  const uint32_t* triangle(const Ref& r) const {
-    return indices_[r.geom_id] + 3 * size_t(r.prim_id);
-  }
-  const float* vertex(const Ref& r, int k) const {
-    return vertices_[r.geom_id] + 3 * size_t(triangle(r)[k]);
-  }
-  void prefetch_indices(const Ref& r) const {
-    if (r.prim_id != api::kInvalidId) __builtin_prefetch(triangle(r));
-  }
-  void prefetch_vertices(const Ref& r) const {
-    if (r.prim_id == api::kInvalidId) return;
-    for (int k = 0; k < 3; ++k) __builtin_prefetch(vertex(r, k));
-  }
-  // (b - a) x (c - a), unit length (computed in double); zero for a
-  // degenerate triangle or none.
-  void unit_normal(const Ref& r, float* n) const {
-    n[0] = n[1] = n[2] = 0.0f;
-    if (r.prim_id == api::kInvalidId) return;
-    const float *a = vertex(r, 0), *b = vertex(r, 1), *c = vertex(r, 2);
-    const double e1[3] = {double(b[0]) - a[0], double(b[1]) - a[1], double(b[2]) - a[2]};
-    const double e2[3] = {double(c[0]) - a[0], double(c[1]) - a[1], double(c[2]) - a[2]};
-    const double x = e1[1] * e2[2] - e1[2] * e2[1];
-    const double y = e1[2] * e2[0] - e1[0] * e2[2];
-    const double z = e1[0] * e2[1] - e1[1] * e2[0];
-    const double len = std::sqrt(x * x + y * y + z * z);
-    if (len > 0.0) n[0] = float(x / len), n[1] = float(y / len), n[2] = float(z / len);
-  }
-
-  std::vector<const float*> vertices_;
-  std::vector<const uint32_t*> indices_;
-};
 
 // Calls f(begin, end) over [0, n) in parallel, kGrain at a time.
 template <typename F>
@@ -174,15 +129,15 @@ void parallel_ranges(size_t n, F&& f) {
 void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads) {
   check_rays(rays);
   api::Backend& b = built();
-  const HitNormals normals(scene_);
   const auto run = [&] {
+    const FaceNormals& normals = face_normals();
     const size_t n = rays.size() / 6;
-    std::vector<api::Ray> r(std::min(n, kChunk));
-    std::vector<api::Hit> hits(r.size());
+    const auto r = scratch<api::Ray>(std::min(n, kChunk));
+    const auto hits = scratch<api::Hit>(std::min(n, kChunk));
     for (size_t begin = 0; begin < n; begin += kChunk) {
       const size_t count = std::min(kChunk, n - begin);
-      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.data());
-      b.intersect({r.data(), count}, {hits.data(), count});
+      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.get());
+      b.intersect({r.get(), count}, {hits.get(), count});
       parallel_ranges(count, [&](size_t k0, size_t k1) {
         for (size_t k = k0; k < k1; ++k) {
           const api::Hit& h = hits[k];
@@ -194,11 +149,9 @@ void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& o
           out.primitive_uvs[2 * i] = hit ? h.u : 0.0f;
           out.primitive_uvs[2 * i + 1] = hit ? h.v : 0.0f;
         }
-        normals.for_each_normal(
-            k0, k1,
-            [&](size_t k) {
-              return HitNormals::Ref{hits[k].geom_id, hits[k].prim_id};
-            },
+        normals.write(
+            k0, k1, [&](size_t k) { return hits[k].geom_id; },
+            [&](size_t k) { return hits[k].prim_id; },
             [&](size_t k) { return out.primitive_normals + 3 * (begin + k); });
       });
     }
@@ -212,11 +165,11 @@ void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, 
   api::Backend& b = built();
   const auto run = [&] {
     const size_t n = rays.size() / 6;
-    std::vector<api::Ray> r(std::min(n, kChunk));
+    const auto r = scratch<api::Ray>(std::min(n, kChunk));
     for (size_t begin = 0; begin < n; begin += kChunk) {
       const size_t count = std::min(kChunk, n - begin);
-      convert(rays.subspan(6 * begin, 6 * count), tnear, tfar, r.data());
-      b.occluded({r.data(), count}, {occluded + begin, count});
+      convert(rays.subspan(6 * begin, 6 * count), tnear, tfar, r.get());
+      b.occluded({r.get(), count}, {occluded + begin, count});
     }
   };
   nthreads > 0 ? in_arena(nthreads, run) : run();
@@ -228,12 +181,12 @@ void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* 
   api::Backend& b = built();
   const auto run = [&] {
     const size_t n = rays.size() / 6;
-    std::vector<api::Ray> r(std::min(n, kChunk));
-    std::vector<uint32_t> c(r.size());
+    const auto r = scratch<api::Ray>(std::min(n, kChunk));
+    const auto c = scratch<uint32_t>(std::min(n, kChunk));
     for (size_t begin = 0; begin < n; begin += kChunk) {
       const size_t count = std::min(kChunk, n - begin);
-      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.data());
-      b.count({r.data(), count}, {c.data(), count});
+      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.get());
+      b.count({r.get(), count}, {c.get(), count});
       for (size_t k = 0; k < count; ++k) counts[begin + k] = int32_t(c[k]);
     }
   };
@@ -246,13 +199,13 @@ IntersectionLists RaycastingScene::list_intersections(std::span<const float> ray
   IntersectionLists out;
   const auto run = [&] {
     const size_t n = rays.size() / 6;
-    std::vector<api::Ray> r(std::min(n, kChunk));
+    const auto r = scratch<api::Ray>(std::min(n, kChunk));
     out.ray_splits.assign(1, 0);
     for (size_t begin = 0; begin < n; begin += kChunk) {
       const size_t count = std::min(kChunk, n - begin);
-      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.data());
+      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.get());
       const api::Backend::HitLists lists =
-          b.intersect_all({r.data(), count}, std::numeric_limits<uint32_t>::max());
+          b.intersect_all({r.get(), count}, std::numeric_limits<uint32_t>::max());
       for (size_t k = 0; k < count; ++k) {
         for (uint64_t j = lists.offsets[k]; j < lists.offsets[k + 1]; ++j) {
           const api::Hit& h = lists.hits[j];
@@ -301,9 +254,9 @@ void RaycastingScene::compute_closest_points(std::span<const float> points,
                                              const ClosestOutput& out, int nthreads) {
   check_points(points);
   api::Backend& b = built();
-  const HitNormals normals(scene_);
   std::vector<api::Backend::ClosestPoint> c(std::min(points.size() / 3, kChunk));
   for_point_chunks(points, nthreads, [&](std::span<const float> p, size_t begin, size_t count) {
+    const FaceNormals& normals = face_normals();
     b.closest(p, {c.data(), count});
     parallel_ranges(count, [&](size_t k0, size_t k1) {
       for (size_t k = k0; k < k1; ++k) {
@@ -317,11 +270,8 @@ void RaycastingScene::compute_closest_points(std::span<const float> points,
         out.primitive_uvs[2 * i] = q.u;
         out.primitive_uvs[2 * i + 1] = q.v;
       }
-      normals.for_each_normal(
-          k0, k1,
-          [&](size_t k) {
-            return HitNormals::Ref{c[k].geom_id, c[k].prim_id};
-          },
+      normals.write(
+          k0, k1, [&](size_t k) { return c[k].geom_id; }, [&](size_t k) { return c[k].prim_id; },
           [&](size_t k) { return out.primitive_normals + 3 * (begin + k); });
     });
   });
@@ -384,6 +334,7 @@ SceneInfo RaycastingScene::info() const {
   SceneInfo i;
   i.meshes = scene_.mesh_count();
   i.triangles = scene_.triangle_count();
+  i.normals_bytes = normals_ ? normals_->memory_bytes() : 0;
   if (!stale_ || only_moved_) {
     const api::BackendInfo b = backend_->info();
     i.backend = b.name;

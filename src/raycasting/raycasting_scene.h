@@ -12,10 +12,13 @@
 #include <cstddef>
 #include <cstdint>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
+
+#include "raycasting/face_normals.h"
 
 namespace hprt::raycasting {
 
@@ -53,7 +56,8 @@ struct IntersectionLists {
 struct SceneInfo {
   std::string backend;  // configuration name, "" before the first build
   double build_ms = 0.0;
-  size_t memory_bytes = 0;
+  size_t memory_bytes = 0;   // the backend's structure
+  size_t normals_bytes = 0;  // FaceNormals, once cast_rays or compute_closest_points made them
   size_t meshes = 0, triangles = 0;
   uint64_t malformed_answers = 0;
 };
@@ -106,6 +110,7 @@ class RaycastingScene {
 
  private:
   api::Backend& built();  // the backend, built or updated over the scene's current state
+  const FaceNormals& face_normals();  // made on first use after a change
   // 6 floats per ray to hprt's records with the interval tnear, tfar.
   static void convert(std::span<const float> rays, float tnear, float tfar, api::Ray* out);
 
@@ -113,8 +118,13 @@ class RaycastingScene {
   std::string backend_name_;
   api::Options options_;
   std::optional<api::Backend> backend_;
-  bool stale_ = true;        // the scene changed since the last build
-  bool only_moved_ = false;  // ... and only by update_triangles (update, not build)
+  bool stale_ = true;                     // the scene changed since the last build
+  bool only_moved_ = false;               // ... and only by update_triangles (update, not build)
+  std::unique_ptr<FaceNormals> normals_;  // the triangles' normals, null when stale
+  // Queries may run at once from several threads (the Python module releases
+  // the GIL); the first after a change builds the backend and normals under
+  // this lock. Adding or moving triangles must not overlap a query.
+  std::mutex prepare_;
 };
 
 // Open3D's create_rays_pinhole: rays (height, width, 6) from the camera at
