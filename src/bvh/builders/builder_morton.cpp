@@ -202,7 +202,7 @@ BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options) {
                       for (size_t i = r.begin(); i != r.end(); ++i)
                         tree.prim_order[i] = static_cast<uint32_t>(sorted[i]);
                     });
-  const auto scratch = make_huge_buffer<BuildNode>(2 * n, /*sparse=*/true);
+  const auto scratch = make_huge_buffer<BuildNode>(2 * n);  // a bound: 2n - 1 nodes
   const MortonBuilder builder(options, sorted, n, prims.bounds.data(), scratch.get());
   place_parts(*builder.build(0, n, 1), tree);
   return tree;

@@ -1,12 +1,15 @@
 // Uninitialised arrays for one build (trivial types only). Large ones are
-// 2 MiB aligned and advised as transparent huge pages (Linux), so first touch
-// costs one fault per 2 MiB instead of one per 4 KiB page. While a
-// HugeBufferRetention lives (a backend that rebuilds every frame holds one),
-// freed large buffers are kept in a small process-wide cache and handed out
-// again (huge_buffer_cache.cpp): a deforming mesh rebuilt every frame asks for
-// arrays of about the same sizes each time, and a cached buffer's pages are
-// faulted in already, where a fresh one's are faulted and zeroed by the
-// kernel, a sizeable part of a fast rebuild.
+// 2 MiB aligned. While a HugeBufferRetention lives (a backend that rebuilds
+// every frame holds one), freed large buffers are kept in a small
+// process-wide cache and handed out again (huge_buffer_cache.cpp): a
+// deforming mesh rebuilt every frame asks for arrays of about the same sizes
+// each time, and a cached buffer's pages are faulted in already, where a
+// fresh one's are faulted and zeroed by the kernel, a sizeable part of a fast
+// rebuild. Only those retained buffers are advised as transparent huge pages
+// (fewer TLB misses when the tree is read at random): on a virtual machine
+// that hands free memory back to its host, the first touch of a fresh 2 MiB
+// page waits for the host, and a one-off build in huge pages took about twice
+// as long as in 4 KiB pages (docs/BENCHMARKS.md, machines).
 #pragma once
 
 #include <cstddef>
@@ -38,12 +41,10 @@ inline void advise_huge_pages(void* p, size_t bytes) {
 }
 
 // A 2 MiB aligned buffer of at least `bytes` (>= kHugePage): a cached one of
-// a close capacity, else a fresh one, huge-page advised. Give it back with
-// release_huge_buffer. `sparse`: the caller touches only parts of it (a
-// bound, not a size), so a fresh one is advised only while retaining, when
-// its pages are faulted once for many rebuilds; a one-off build then faults
-// only the 4 KiB pages it touches instead of zeroing whole 2 MiB ones.
-void* acquire_huge_buffer(size_t bytes, bool sparse = false);
+// a close capacity, else a fresh one (huge-page advised while retaining).
+// Give it back with release_huge_buffer. Only the pages touched are faulted
+// in, so a bound may be asked for instead of a size.
+void* acquire_huge_buffer(size_t bytes);
 // Caches the buffer while a HugeBufferRetention lives (the oldest cached ones
 // are freed past the cache's bounds), else frees it.
 void release_huge_buffer(void* p) noexcept;
@@ -74,12 +75,12 @@ template <typename T>
 using HugeBuffer = std::unique_ptr<T[], HugeDeleter>;
 
 template <typename T>
-HugeBuffer<T> make_huge_buffer(size_t n, bool sparse = false) {
+HugeBuffer<T> make_huge_buffer(size_t n) {
   static_assert(std::is_trivially_copyable_v<T> && std::is_trivially_destructible_v<T>);
   static_assert(alignof(T) <= kHugePage);
   const size_t bytes = n * sizeof(T);
   if (bytes >= kHugePage)
-    return HugeBuffer<T>(static_cast<T*>(acquire_huge_buffer(bytes, sparse)), HugeDeleter{true});
+    return HugeBuffer<T>(static_cast<T*>(acquire_huge_buffer(bytes)), HugeDeleter{true});
   const size_t align = alignof(T) < 16 ? 16 : alignof(T);
   void* p = std::aligned_alloc(align, (bytes + align - 1) / align * align);
   if (!p) throw std::bad_alloc();
@@ -87,12 +88,10 @@ HugeBuffer<T> make_huge_buffer(size_t n, bool sparse = false) {
 }
 
 // Allocator for node arrays (build trees and traversal layouts): 64-byte
-// (cache-line) aligned storage; arrays of 2 MiB or more are 2 MiB aligned and
-// advised as transparent huge pages, like the triangle arrays (BuildArray):
-// the bottom levels of a large tree are read at random, and with 4 KiB pages
-// nearly every such read also missed the TLB. Those come from the buffer
-// cache above, reused across rebuilds (from malloc, each rebuild's were fresh
-// pages whenever glibc served them by mmap).
+// (cache-line) aligned storage; arrays of 2 MiB or more come from the buffer
+// cache above, like the triangle arrays (BuildArray): reused across rebuilds
+// (from malloc, each rebuild's were fresh pages whenever glibc served them by
+// mmap), and in huge pages while retained.
 template <typename T>
 struct CacheAlignedAllocator {
   using value_type = T;

@@ -79,7 +79,7 @@ Cache& cache() {
 
 }  // namespace
 
-void* acquire_huge_buffer(size_t bytes, bool sparse) {
+void* acquire_huge_buffer(size_t bytes) {
   const size_t need = (bytes + kHugePage - 1) / kHugePage * kHugePage;
   Cache& c = cache();
   bool retaining = false;
@@ -102,16 +102,15 @@ void* acquire_huge_buffer(size_t bytes, bool sparse) {
   // While retaining, an eighth more than asked, in address space only (pages
   // never touched are never faulted in): arrays that grow a little from one
   // rebuild to the next (an exploding mesh's node count) still fit it later.
-  // Otherwise only the huge pages the request fills are advised: a partly
-  // used tail page stays in 4 KiB pages instead of a whole 2 MiB zeroed for
-  // a one-off build. The
-  // slack is dropped where the buffer could not serve its own size again
-  // (2 MiB asked, 4 MiB held).
+  // The slack is dropped where the buffer could not serve its own size again
+  // (2 MiB asked, 4 MiB held). Only retained buffers are advised as huge
+  // pages (see huge_buffer.h): their pages are faulted once for many
+  // rebuilds, where a one-off build's would be faulted for one.
   size_t capacity = retaining ? (need + need / 8 + kHugePage - 1) / kHugePage * kHugePage : need;
   if (!serves(capacity, need)) capacity = need;
   void* p = std::aligned_alloc(kHugePage, capacity);
   if (!p) throw std::bad_alloc();
-  if (retaining || !sparse) advise_huge_pages(p, retaining ? capacity : bytes);
+  if (retaining) advise_huge_pages(p, capacity);
   try {
     const std::lock_guard lock(c.mutex);
     c.out[p] = capacity;
