@@ -195,6 +195,26 @@ void check_traversal(const TriangleMesh& mesh, int leaf, BuilderKind builder, ui
   expect_same_as_brute_force_and_binary<Test>(b, w8, coherent, "bvh8 coherent");
 }
 
+// A tree of tens of thousands of nodes: the collapse plan is solved in
+// parallel over subtrees below a cut near the root, the nodes filled in
+// parallel; the layout is still exact, and a node deep below the cut whose
+// right child lies in another subtree is a malformed tree.
+TEST(FlattenWide, LargeTreeSolvedInParallelSubtrees) {
+  const test::BuiltBvh b = test::build_flat({test::random_soup(120000, 5, 0.02f)}, BuildOptions{});
+  ASSERT_GT(b.tree.nodes.size(), 16u * 4096u);
+  check_layout<4>(b);
+  check_layout<8>(b);
+  const WideBvh<8> w = flatten_wide<8>(b.tree, b.prims, b.scene);
+  expect_same_as_brute_force_and_binary<WatertightTest>(
+      b, w, test::random_rays(b.scene.bounds(), 400, 17), "large bvh8 random");
+
+  BuildTree bad = b.tree;
+  const uint32_t deep = 10;  // ten levels down the left spine (left child = index + 1)
+  ASSERT_FALSE(bad.nodes[deep].is_leaf());
+  bad.nodes[deep].right = b.tree.nodes[0].right;  // the root's right subtree
+  EXPECT_THROW(flatten_wide<8>(bad, b.prims, b.scene), std::invalid_argument);
+}
+
 TEST(TraverseWide, MatchesBruteForceOnSoupsAllLeafSizes) {
   const TriangleMesh soup = test::random_soup(3000, 11, 0.05f);
   for (int leaf = 1; leaf <= 8; ++leaf) {

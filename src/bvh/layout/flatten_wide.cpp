@@ -11,6 +11,9 @@
 // its right), so CollapsedInner records them as ranges. A wide node's inner
 // children get consecutive indices when it is filled, depth first. Slots
 // still free then take parts of the node's leaves (split_leaves_into_free_slots).
+// The plan is solved in parallel over subtrees (CollapsePlan), the walk that
+// numbers the wide nodes runs on one thread, and the nodes are then filled in
+// parallel from the slots it chose, so the layout is thread-count independent.
 // Triangle pass: gather_leaf_triangles, as for the binary layout. The two
 // passes read only the build tree (and the scene), so a caller may run them
 // concurrently (flatten_wide_nodes, then set `triangles`).
@@ -28,6 +31,7 @@
 
 #include "bvh/layout/flatten_bvh2.h"
 #include "bvh/memory/build_array.h"
+#include "bvh/memory/prefault.h"
 
 namespace hprt {
 namespace {
@@ -51,52 +55,84 @@ struct CollapsePlan {
     return tree.nodes[b].is_leaf() ? 0 : left_slots[size_t(b) * N + i - 1];
   }
 
-  // Children have larger indices than their parent (checked), so one pass in
-  // reverse index order sees every child before its parent.
+  // The build tree is in preorder (build_tree.h): subtree b is the index
+  // range [b, end), its left child's [b + 1, right), its right child's
+  // [right, end). The subtrees below a cut near the root are solved in
+  // parallel, each by one pass in reverse index order (every child before
+  // its parent); then the few nodes above the cut. A node whose children
+  // leave its range is a malformed tree.
   explicit CollapsePlan(const BuildTree& t)
       : tree(t), cost(t.nodes.size() * N), left_slots(t.nodes.size() * N) {
-    const size_t n = tree.nodes.size();
-    for (size_t b = n; b-- > 0;) {
-      const BuildNode& node = tree.nodes[b];
-      if (node.is_leaf()) continue;
-      if (b + 1 >= n || node.right >= n || node.right <= b)
-        throw std::invalid_argument("flatten: malformed build tree");
-      float* c = &cost[b * N];
-      uint8_t* k = &left_slots[b * N];
-      c[0] = node.bounds.half_area();
-      k[0] = 0;
-      if (tree.nodes[b + 1].is_leaf() && tree.nodes[node.right].is_leaf()) {
-        // Two leaves: a wide node of its own costs its area, opening nothing.
-        for (int i = 2; i <= N; ++i) {
-          c[i - 1] = 0.0f;
-          k[i - 1] = 1;
-        }
-        continue;
-      }
-      const float* l = costs_of(uint32_t(b + 1));
-      const float* r = costs_of(node.right);
-      // open[i - 1]: n opened, its children sharing at most i slots (i >= 2).
-      float open[N];
-      uint8_t open_k[N];
+    std::vector<std::pair<uint32_t, uint32_t>> below;  // subtree ranges
+    std::vector<uint32_t> above;                       // in preorder
+    cut(0, uint32_t(tree.nodes.size()), 0, below, above);
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, below.size(), 1),
+                      [&](const tbb::blocked_range<size_t>& r) {
+                        for (size_t s = r.begin(); s != r.end(); ++s)
+                          for (uint32_t b = below[s].second; b-- > below[s].first;)
+                            solve(b, below[s].second);
+                      });
+    for (size_t a = above.size(); a-- > 0;) solve(above[a], uint32_t(tree.nodes.size()));
+  }
+
+  static constexpr int kCutDepth = 6;            // up to 64 subtrees
+  static constexpr uint32_t kMinSubtree = 4096;  // nodes: smaller ones are not cut
+
+  void cut(uint32_t b, uint32_t end, int depth, std::vector<std::pair<uint32_t, uint32_t>>& below,
+           std::vector<uint32_t>& above) const {
+    const BuildNode& node = tree.nodes[b];
+    if (node.is_leaf() || depth == kCutDepth || end - b < kMinSubtree) {
+      below.emplace_back(b, end);
+      return;
+    }
+    if (node.right <= b + 1 || node.right >= end)
+      throw std::invalid_argument("flatten: malformed build tree");
+    above.push_back(b);
+    cut(b + 1, node.right, depth + 1, below, above);
+    cut(node.right, end, depth + 1, below, above);
+  }
+
+  // Node b's entries from its children's; its subtree ends before `end`.
+  void solve(size_t b, uint32_t end) {
+    const BuildNode& node = tree.nodes[b];
+    if (node.is_leaf()) return;
+    if (node.right <= b + 1 || node.right >= end)
+      throw std::invalid_argument("flatten: malformed build tree");
+    float* c = &cost[b * N];
+    uint8_t* k = &left_slots[b * N];
+    c[0] = node.bounds.half_area();
+    k[0] = 0;
+    if (tree.nodes[b + 1].is_leaf() && tree.nodes[node.right].is_leaf()) {
+      // Two leaves: a wide node of its own costs its area, opening nothing.
       for (int i = 2; i <= N; ++i) {
-        open[i - 1] = l[0] + r[i - 2];
-        open_k[i - 1] = 1;
-        for (int j = 2; j < i; ++j) {
-          const float v = l[j - 1] + r[i - j - 1];
-          if (v < open[i - 1]) {
-            open[i - 1] = v;
-            open_k[i - 1] = uint8_t(j);
-          }
+        c[i - 1] = 0.0f;
+        k[i - 1] = 1;
+      }
+      return;
+    }
+    const float* l = costs_of(uint32_t(b + 1));
+    const float* r = costs_of(node.right);
+    // open[i - 1]: n opened, its children sharing at most i slots (i >= 2).
+    float open[N];
+    uint8_t open_k[N];
+    for (int i = 2; i <= N; ++i) {
+      open[i - 1] = l[0] + r[i - 2];
+      open_k[i - 1] = 1;
+      for (int j = 2; j < i; ++j) {
+        const float v = l[j - 1] + r[i - j - 1];
+        if (v < open[i - 1]) {
+          open[i - 1] = v;
+          open_k[i - 1] = uint8_t(j);
         }
       }
-      // As a wide node of its own, n costs its area plus its best N-slot
-      // forest; with more slots the plan opens n where that is cheaper.
-      c[0] += open[N - 1];
-      for (int i = 2; i <= N; ++i) {
-        const bool opened = open[i - 1] < c[0];
-        c[i - 1] = opened ? open[i - 1] : c[0];
-        k[i - 1] = opened ? open_k[i - 1] : 0;
-      }
+    }
+    // As a wide node of its own, n costs its area plus its best N-slot
+    // forest; with more slots the plan opens n where that is cheaper.
+    c[0] += open[N - 1];
+    for (int i = 2; i <= N; ++i) {
+      const bool opened = open[i - 1] < c[0];
+      c[i - 1] = opened ? open[i - 1] : c[0];
+      k[i - 1] = opened ? open_k[i - 1] : 0;
     }
   }
 
@@ -224,15 +260,24 @@ WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
 
   Filler f{tree};
   out.bounds = tree.nodes[0].bounds;
+  // The walk decides each wide node's slots (the build nodes they hold); a
+  // wide node's inner children get consecutive indices from first_child on,
+  // depth first. The nodes are then filled in parallel.
+  struct Shape {
+    uint32_t slot[N];
+    uint32_t first_child;
+    int k;
+  };
+  std::vector<Shape> shapes;
   if (tree.nodes[0].is_leaf()) {
     out.root = f.leaf_ref(0);
   } else {
     const CollapsePlan<N> plan(tree);
     // A wide node holds at least 2 binary nodes' worth of children, so there
     // are at most (n - 1) / 2 of them: reserve once, no reallocation.
-    out.nodes.reserve((n - 1) / 2 + 1);
+    shapes.reserve((n - 1) / 2 + 1);
     out.collapsed.reserve((n - 1) / 2 + 1);
-    out.nodes.emplace_back();
+    shapes.emplace_back();
     out.collapsed.emplace_back();
     out.root = NodeRef::inner(0);
     std::vector<std::pair<uint32_t, uint32_t>> todo;  // (build node, wide node)
@@ -241,44 +286,52 @@ WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
       const auto [b, w] = todo.back();
       todo.pop_back();
       f.place();
-      uint32_t slot[N];
-      int k = 0;
+      Shape s;
+      s.k = 0;
       CollapsedInner<N> col;
       const int left = plan.root_left_slots(b);
-      expand(plan, tree, f, b + 1, left, slot, k, col);
-      expand(plan, tree, f, f.tree.nodes[b].right, N - left, slot, k, col);
-      WideNode<N> node;
-      for (int i = 0; i < N; ++i) node.clear_slot(i);
+      expand(plan, tree, f, b + 1, left, s.slot, s.k, col);
+      expand(plan, tree, f, f.tree.nodes[b].right, N - left, s.slot, s.k, col);
+      s.first_child = uint32_t(shapes.size());
       const size_t pushed_from = todo.size();
-      for (int i = 0; i < k; ++i) {
-        const BuildNode& c = tree.nodes[slot[i]];
-        node.set_box(i, c.bounds);
-        if (c.is_leaf()) {
-          node.child[i] = f.leaf_ref(slot[i]);
+      for (int i = 0; i < s.k; ++i) {
+        if (tree.nodes[s.slot[i]].is_leaf()) {
+          (void)f.leaf_ref(s.slot[i]);  // checks the leaf, counts it
         } else {
-          const uint32_t child = uint32_t(out.nodes.size());
-          out.nodes.emplace_back();
+          todo.emplace_back(s.slot[i], uint32_t(shapes.size()));
+          shapes.emplace_back();
           out.collapsed.emplace_back();
-          node.child[i] = NodeRef::inner(child);
-          todo.emplace_back(slot[i], child);
         }
       }
       // Visit the first child's subtree first (depth first, in slot order).
       std::reverse(todo.begin() + std::ptrdiff_t(pushed_from), todo.end());
-      out.nodes[w] = node;
+      shapes[w] = s;
       out.collapsed[w] = col;
     }
   }
   if (f.visited != n)
     throw std::invalid_argument("flatten: build tree is not a single binary tree");
-  // Each node on its own, in parallel: the part boxes are read at random
-  // from the prim boxes, which on one thread was the longest part of the
-  // node pass.
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, out.nodes.size(), 1024),
-                    [&](const tbb::blocked_range<size_t>& r) {
-                      for (size_t w = r.begin(); w != r.end(); ++w)
-                        split_leaves_into_free_slots(out.nodes[w], out.collapsed[w], tree, prims);
-                    });
+  out.nodes.reserve(shapes.size());
+  prefault_pages(out.nodes.data(), shapes.size() * sizeof(WideNode<N>));
+  out.nodes.resize(shapes.size());
+  // Each node on its own, in parallel: the part boxes of split leaves are
+  // read at random from the prim boxes.
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, shapes.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
+        for (size_t w = r.begin(); w != r.end(); ++w) {
+          const Shape& s = shapes[w];
+          WideNode<N>& node = out.nodes[w];
+          for (int i = 0; i < N; ++i) node.clear_slot(i);
+          uint32_t next_child = s.first_child;
+          for (int i = 0; i < s.k; ++i) {
+            const BuildNode& c = tree.nodes[s.slot[i]];
+            node.set_box(i, c.bounds);
+            node.child[i] =
+                c.is_leaf() ? NodeRef::leaf(c.first, c.count) : NodeRef::inner(next_child++);
+          }
+          split_leaves_into_free_slots(node, out.collapsed[w], tree, prims);
+        }
+      });
   return out;
 }
 
