@@ -20,6 +20,7 @@
 #include "bench/bench_embree_bvh.h"
 #include "bench/bench_inputs.h"
 #include "bench/bench_timing.h"
+#include "bench/cold_build.h"
 #include "bvh/builders/builders.h"
 #include "bvh/layout/flatten_bvh2.h"
 #include "bvh/layout/flatten_wide.h"
@@ -92,6 +93,9 @@ constexpr BuilderKind kBuilders[] = {BuilderKind::kSweep, BuilderKind::kPresorte
 constexpr const char* kQualities[] = {"low", "medium", "high"};
 constexpr std::string_view kCommitPrefix = "embree-commit-";
 constexpr std::string_view kBackendPrefix = "backend:";
+// Cold first builds (cold_build.h): the backend and its row's name.
+constexpr std::pair<const char*, const char*> kColdBackends[] = {
+    {"bvh", "cold-process-bvh"}, {"embree", "cold-process-embree-medium"}};
 
 // Inputs first, so a missing file fails before any timing.
 std::vector<BenchInput> load_inputs(const BuildBenchConfig& config) {
@@ -117,7 +121,8 @@ size_t count_steps(const std::vector<BenchInput>& inputs, size_t thread_count, i
   size_t steps = with_backend ? inputs.size() * thread_count * size_t(reps) : 0;
   for (const auto& in : inputs) {
     const bool sweep_one = in.scene.triangle_count() > kSweepFewerRepsAbove && !repeat_given;
-    steps += thread_count * size_t(reps) * (std::size(kBuilders) + 4 - (sweep_one ? 1 : 0)) +
+    steps += thread_count * size_t(reps) *
+                 (std::size(kBuilders) + 4 + std::size(kColdBackends) - (sweep_one ? 1 : 0)) +
              (sweep_one ? thread_count : 0);
   }
   return steps;
@@ -279,6 +284,28 @@ void add_rows(Table& table, const BenchInput& in, const std::vector<BuildJob>& j
   }
 }
 
+// Rows of the cold first builds, each backend at each thread count, the
+// samples round-robin (a fresh process each).
+void add_cold_rows(Table& table, const BenchInput& in, const std::vector<int>& threads, int reps,
+                   Progress& progress) {
+  const ColdBuilds cold(in);
+  std::vector<RoundRobinJob> timed;
+  for (const auto& [backend, name] : kColdBackends)
+    for (int t : threads)
+      timed.push_back({reps, [&cold, backend, t](int) { return cold.build_ms(backend, t); }});
+  const std::vector<TimingStats> stats = run_round_robin(timed, [&] { progress.advance(); });
+  size_t i = 0;
+  for (const auto& [backend, name] : kColdBackends) {
+    for (size_t ti = 0; ti < threads.size(); ++ti) {
+      Timed r;
+      r.t = stats[i + ti];
+      add_row(table, in, in.scene.triangle_count(), name, threads[ti], r,
+              ti == 0 ? std::nullopt : std::optional<double>(stats[i].median_ms), std::nullopt);
+    }
+    i += threads.size();
+  }
+}
+
 // Flatten cost of the default tree into each traversal layout (not in
 // build_ms): median of `reps`, alternating the layouts.
 std::string flatten_note(const BenchInput& in, const PrimInfo& prims_all, int threads, int reps) {
@@ -315,6 +342,7 @@ bool bench_mesh(BenchReport& report, Table& table, const BenchInput& in,
       list_jobs(prims_all.size(), threads.size(), reps, repeat_given, backend);
   time_jobs(jobs, threads, prims_all, in.scene, progress);
   add_rows(table, in, jobs, threads);
+  add_cold_rows(table, in, threads, reps, progress);
   report.add_note(flatten_note(in, prims_all, threads.back(), reps));
   return std::any_of(jobs.begin(), jobs.end(), [&](const BuildJob& j) { return j.reps != reps; });
 }
@@ -339,6 +367,12 @@ void add_table_notes(Table& table, bool sweep_fewer) {
   if (sweep_fewer)
     table.add_note("sweep ran 1 repetition on meshes above " + with_commas(kSweepFewerRepsAbove) +
                    " triangles (O(n log^2 n)); pass --repeat to force a count.");
+  table.add_note(
+      "cold-process rows: the first build of a fresh process, as `hprt trace` and `hprt "
+      "render` pay it: each repetition runs `hprt trace MESH --rays (one ray) --backend B "
+      "--threads T` and takes its build_ms (bvh: prim info, build, flatten into bvh8, leaf "
+      "triangles, refit index; embree: geometry + rtcCommitScene at MEDIUM), the backends "
+      "alternating. The other rows repeat builds in one warm process.");
   std::string models;
   for (const auto& m : report_models())
     models += std::string(models.empty() ? "" : "; ") + with_commas(m.triangles) + " = " + m.name +

@@ -119,6 +119,12 @@ TEST_F(Bench, BuildQuickWritesEveryColumnAndEmbreeRows) {
     EXPECT_LE(number(row.at("min_ms")), number(row.at("max_ms")));
     EXPECT_TRUE(row.at("threads") == "1" || row.at("threads") == "2");
     EXPECT_EQ(row.at("reps"), "1");
+    // Cold first builds (a child hprt trace each): a time, no tree figures.
+    if (row.at("builder").rfind("cold-process-", 0) == 0) {
+      EXPECT_GT(number(row.at("build_ms")), 0.0) << row.at("builder");
+      EXPECT_EQ(row.at("sah_cost"), "");
+      continue;
+    }
     if (row.at("builder").rfind("embree-commit", 0) != 0) {
       EXPECT_GT(number(row.at("sah_cost")), 1.0) << row.at("builder");
       EXPECT_GT(number(row.at("sah_vs_embree_bvh")), 0.5);
@@ -128,7 +134,8 @@ TEST_F(Bench, BuildQuickWritesEveryColumnAndEmbreeRows) {
     }
   }
   for (const char* b : {"sweep", "presorted", "binned", "parallel", "morton", "embree-commit-low",
-                        "embree-commit-medium", "embree-commit-high", "embree-buildbvh"})
+                        "embree-commit-medium", "embree-commit-high", "embree-buildbvh",
+                        "cold-process-bvh", "cold-process-embree-medium"})
     EXPECT_EQ(builders.count(b), 2u) << b;  // 1 thread and 2 threads
   check_json("build.json", "table", csv);
 }
