@@ -71,7 +71,9 @@ class BvhIntersector final : public Intersector {
   // reports sah_cost, nodes and the triangle counts, and the other figures
   // (tree_hash and the leaf and depth figures; zero without them) only with
   // BackendOptions::full_stats_on_update, computed beside the flattening.
-  // A refit allocates nothing: it rewrites the existing nodes and triangles.
+  // A refit allocates nothing (the refit index aside, on the first refit
+  // after a build of a scene not known to be animated): it rewrites the
+  // existing nodes and triangles.
   // build_ms: the whole update (checks, refit, rebuild). From the first
   // update on, the backend keeps the freed build arrays for the next rebuild
   // (huge_buffer.h).
@@ -85,8 +87,11 @@ class BvhIntersector final : public Intersector {
     } else {
       // Only the array this backend's triangle test reads is re-gathered.
       const RefitTriangles write = test_arrays();
-      const RefitResult r =
-          with_layout(*this, [&](auto& bvh) { return refit(bvh, scene, write, &refit_index_); });
+      const RefitResult r = with_layout(*this, [&](auto& bvh) {
+        if (!refit_index_ready_) make_refit_index(bvh.triangles, scene, refit_index_);
+        refit_index_ready_ = true;
+        return refit(bvh, scene, write, &refit_index_);
+      });
       if (rebuild_after_refit(options_, r.valid, r.sah_cost, rebuild_sah_cost_)) {
         ms = ms_since(start) + rebuild(scene, update_stats());
       } else {
@@ -160,7 +165,8 @@ class BvhIntersector final : public Intersector {
   }
 
   // Full build; returns its ms: prim info + build + flatten + what update()
-  // needs later (layout record, refit index, the new tree's SAH cost).
+  // needs later (layout record, the new tree's SAH cost, and the refit index
+  // when animated).
   double rebuild(const Scene& scene, StatsPass stats_pass) {
     const auto start = Clock::now();
     const PrimInfo prims = make_prim_info(scene);
@@ -175,17 +181,20 @@ class BvhIntersector final : public Intersector {
     // next update() finds the layout changed and rebuilds, instead of
     // refitting an empty tree.
     built_over_.clear();
+    refit_index_ready_ = false;
     bvh2_ = Bvh2{};
     bvh4_ = WideBvh<4>{};
     bvh8_ = WideBvh<8>{};
     const auto make_layout = [&] {
       with_layout(*this, [&](auto& bvh) {
-        // The node pass beside the triangle pass and the refit index.
+        // The node pass beside the triangle pass (and the refit index).
         tbb::parallel_invoke([&] { flatten_nodes_into(bvh, tree, prims); },
                              [&] {
                                gather_leaf_triangles(tree, prims, scene, test_arrays(), triangles);
-                               make_refit_index(triangles, scene, refit_index_);
+                               if (retain_buffers_)
+                                 make_refit_index(triangles, scene, refit_index_);
                              });
+        refit_index_ready_ = bool(retain_buffers_);
         bvh.triangles = std::move(triangles);
         rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
         info_.memory_bytes = bvh.memory_bytes();
@@ -248,8 +257,12 @@ class BvhIntersector final : public Intersector {
   WideBvh<4> bvh4_;
   WideBvh<8> bvh8_;
   BuildInfo info_;
-  MeshRecord built_over_;                              // the meshes at the last rebuild
-  RefitIndex refit_index_;                             // leaf-order vertex indices for refit()
+  MeshRecord built_over_;  // the meshes at the last rebuild
+  // Leaf-order vertex indices for refit(): made with the tree when the
+  // backend is animated (retain_buffers_), else by the first refit, so that a
+  // one-off build does not pay for it.
+  RefitIndex refit_index_;
+  bool refit_index_ready_ = false;
   double rebuild_sah_cost_ = 0.0;                      // sah_cost right after the last rebuild
   std::optional<HugeBufferRetention> retain_buffers_;  // held once animated
 };

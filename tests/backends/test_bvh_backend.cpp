@@ -259,6 +259,60 @@ TEST(BvhBackend, AnimatedSceneKeepsItsBuildArrays) {
   EXPECT_EQ(huge_buffer_cache_bytes(), 0u);
 }
 
+// The refit index is made with the tree only for an animated scene; after a
+// one-off build the first refit makes it. Both paths refit to the same tree
+// and answers, also after an adaptive rebuild in between and for every
+// layout and triangle test.
+TEST(BvhBackend, RefitAfterAOneOffBuildEqualsRefitOfAnAnimatedBuild) {
+  Scene still = scene_of({test::random_soup(20000, 6, 0.02f), test::icosphere(3)});
+  Scene animated = still;
+  DeformerSpec wave;
+  wave.mesh = 0;
+  wave.kind = "wave";
+  animated.animation.deformers.push_back(wave);
+  std::vector<Scene> frames;
+  for (float a : {0.05f, 0.1f, 3.0f, 3.05f}) {  // the jump to 3.0 forces an adaptive rebuild
+    Scene f = still;
+    for (TriangleMesh& m : f.meshes)
+      for (Vec3f& p : m.positions) p = p + Vec3f{a * std::sin(7 * p.y), 0.0f, 0.05f * a * p.x};
+    frames.push_back(std::move(f));
+  }
+  const auto rays = test::random_rays(still.bounds(), 3000, 37);
+  for (TriangleTestKind kind : {TriangleTestKind::kWatertight, TriangleTestKind::kMoller})
+    for (BvhLayout layout : {BvhLayout::kBvh2, BvhLayout::kBvh8}) {
+      SCOPED_TRACE(std::string(to_string(kind)) + " " + std::string(to_string(layout)));
+      BackendOptions o;
+      o.triangle_test = kind;
+      o.layout = layout;
+      o.update = UpdateStrategy::kAdaptive;
+      o.full_stats_on_update = true;
+      run_with_threads(2, [&] {
+        auto one_off = make_intersector("bvh", o);
+        auto anim = make_intersector("bvh", o);
+        one_off->build(still);
+        anim->build(animated);
+        bool rebuilt = false, refitted = false;
+        for (const Scene& f : frames) {
+          one_off->update(f);
+          anim->update(f);
+          const Answers a = ask(*one_off, rays), b = ask(*anim, rays);
+          EXPECT_EQ(a.info.rebuilt, b.info.rebuilt);
+          rebuilt = rebuilt || a.info.rebuilt;
+          refitted = refitted || !a.info.rebuilt;
+          EXPECT_EQ(a.info.stats.sah_cost, b.info.stats.sah_cost);
+          for (size_t i = 0; i < rays.size(); ++i) {
+            EXPECT_EQ(a.hits[i].t, b.hits[i].t) << i;
+            EXPECT_EQ(a.hits[i].prim_id, b.hits[i].prim_id) << i;
+            EXPECT_EQ(a.occluded[i], b.occluded[i]) << i;
+          }
+        }
+        EXPECT_TRUE(rebuilt);
+        EXPECT_TRUE(refitted);
+        return 0;
+      });
+    }
+}
+
 // The freed build arrays are cached (for the next rebuild) only while a
 // backend that was updated lives; rebuilds over reused arrays answer as a
 // fresh build.
