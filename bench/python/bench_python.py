@@ -5,7 +5,7 @@ of an Embree-backed scene in the same process. Prints thread count, triangle
 count, medians and the ratios; the Python overhead is python / C++ time - 1,
 the median over repetitions of back-to-back pairs.
 
-Usage: bench_python.py MESH [--rays N] [--kind random] [--repeat R] [--hprt PATH]
+Usage: bench_python.py MESH [--rays N] [--kind random] [--repeat R] [--threads T] [--hprt PATH]
 (PYTHONPATH must reach the hprt module: BUILD/python, or an installed prefix's
 lib/python3/dist-packages.)"""
 import argparse
@@ -28,9 +28,9 @@ def read_rays(path):
     return np.ascontiguousarray(raw[:, [0, 1, 2, 4, 5, 6]])
 
 
-def cpp_trace_ms(hprt_bin, mesh, rays_path, backend, out_dir):
+def cpp_trace_ms(hprt_bin, mesh, rays_path, backend, threads, out_dir):
     r = subprocess.run([hprt_bin, "trace", mesh, "--rays", rays_path, "--backend", backend,
-                        "--json", "-o", os.path.join(out_dir, "h.hits")],
+                        "--threads", str(threads), "--json", "-o", os.path.join(out_dir, "h.hits")],
                        check=True, capture_output=True, text=True)
     return json.loads(r.stdout)["ms"]
 
@@ -47,6 +47,7 @@ def main():
     ap.add_argument("--rays", type=int, default=1_000_000)
     ap.add_argument("--kind", default="random")
     ap.add_argument("--repeat", type=int, default=5)
+    ap.add_argument("--threads", type=int, default=0, help="0 = every hardware thread")
     ap.add_argument("--hprt", default="hprt", help="the hprt command")
     a = ap.parse_args()
     with tempfile.TemporaryDirectory() as tmp:
@@ -57,7 +58,7 @@ def main():
         vertices, triangles = hprt.load_mesh(a.mesh)
         scenes = {}
         for backend in ("bvh", "embree"):
-            s = hprt.RaycastingScene(backend=backend)
+            s = hprt.RaycastingScene(nthreads=a.threads, backend=backend)
             s.add_triangles(vertices, triangles)
             s.cast_rays(rays[:1])  # builds
             scenes[backend] = s
@@ -65,8 +66,9 @@ def main():
         for _ in range(a.repeat):  # alternating, so load changes hit all alike
             times["python bvh"].append(python_ms(scenes["bvh"], rays))
             times["python embree"].append(python_ms(scenes["embree"], rays))
-            times["C++ hprt trace bvh"].append(cpp_trace_ms(a.hprt, a.mesh, rays_path, "bvh", tmp))
-    threads = os.cpu_count()
+            times["C++ hprt trace bvh"].append(
+                cpp_trace_ms(a.hprt, a.mesh, rays_path, "bvh", a.threads, tmp))
+    threads = a.threads or os.cpu_count()
     print(f"bench_python: {a.mesh}, {len(triangles):,} triangles, {len(rays):,} {a.kind} rays, "
           f"{threads} threads, median of {a.repeat} (hprt {hprt.__version__})")
     med = {k: statistics.median(v) for k, v in times.items()}
