@@ -11,7 +11,9 @@
 #include "bvh/intersect/ray_triangle.h"
 #include "bvh/layout/flatten_wide.h"
 #include "bvh/traverse/trace_batch.h"
+#include "bvh/traverse/traverse_all.h"
 #include "bvh/traverse/traverse_bvh2.h"
+#include "bvh/traverse/traverse_point.h"
 #include "bvh/traverse/traverse_wide.h"
 #include "meshgen/mesh_generators.h"
 #include "tests/support/bvh_trace_helpers.h"
@@ -101,6 +103,65 @@ TEST(TraceBatch, LargeTreeTracedInterleavedEqualsSingleRays) {
       expect_batch_equals_single_rays<MollerTest>(bvh8, TriangleTestKind::kMoller, rays);
       expect_batch_equals_single_rays<MollerTest>(bvh4, TriangleTestKind::kMoller, rays);
     }
+  }
+}
+
+// The count and inside queries of such a tree trace several rays at a time
+// too (traverse_all_interleaved.h): the same counts as traverse_all ray by
+// ray, the same locations as locate_point point by point (random points,
+// points exactly on the surface, invalid points and rays).
+TEST(TraceBatch, LargeTreeCountsAndLocatesInterleavedAsOneByOne) {
+  test::BuiltBvh b = test::build_flat({generate_bumpy_sphere(320000, 3)}, {});
+  const AABB box = b.scene.bounds();
+  std::vector<Ray> rays = test::random_rays(box, 3001, 17);
+  rays[5].dir = Vec3f(0.0f);
+  rays[9].tfar = 0.0f;
+  rays[11].tfar = 0.5f * length(box.diagonal());
+  std::vector<Vec3f> points;
+  test::Rng rng(23);
+  for (int i = 0; i < 2000; ++i) {
+    Vec3f p;
+    for (int a = 0; a < 3; ++a)
+      p[a] = box.min[a] + float(rng.uniform()) * (box.max[a] - box.min[a]);
+    points.push_back(p);
+  }
+  const auto& verts = b.scene.meshes[0].positions;
+  for (size_t i = 0; i < verts.size(); i += verts.size() / 300) points.push_back(verts[i]);
+  points.push_back(Vec3f(std::numeric_limits<float>::quiet_NaN(), 0.0f, 0.0f));
+  for (const auto arrays : {TriangleArrays::kVerts, TriangleArrays::kEdges}) {
+    const auto bvh8 = flatten_wide<8>(b.tree, b.prims, b.scene, arrays);
+    ASSERT_GE(bvh8.memory_bytes(), kInterleaveMinBytes);
+    const TriangleTestKind kind = arrays == TriangleArrays::kVerts ? TriangleTestKind::kWatertight
+                                                                   : TriangleTestKind::kMoller;
+    std::vector<uint32_t> counts(rays.size(), 77);
+    count_batch(bvh8, kind, rays, counts.data());
+    size_t crossed = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      uint32_t want = 0;
+      const auto one = [&](const LeafRange&, uint32_t, const TriangleHit&) { ++want; };
+      if (ray_is_valid(rays[i])) {
+        if (kind == TriangleTestKind::kWatertight)
+          traverse_all<WatertightTest>(bvh8, rays[i], one);
+        else
+          traverse_all<MollerTest>(bvh8, rays[i], one);
+      }
+      ASSERT_EQ(counts[i], want) << "ray " << i;
+      crossed += want > 0;
+    }
+    EXPECT_GT(crossed, rays.size() / 10);
+    if (kind != TriangleTestKind::kWatertight) continue;  // inside reads exact vertices
+    std::vector<PointLocation> where(points.size(), PointLocation(9));
+    locate_batch(bvh8, points, where.data());
+    size_t inside = 0, on = 0;
+    for (size_t i = 0; i < points.size(); ++i) {
+      const PointLocation want =
+          i + 1 == points.size() ? PointLocation::kOutside : locate_point(bvh8, points[i]);
+      ASSERT_EQ(where[i], want) << "point " << i;
+      inside += want == PointLocation::kInside;
+      on += want == PointLocation::kOnSurface;
+    }
+    EXPECT_GT(inside, 100u);
+    EXPECT_GT(on, 100u);
   }
 }
 

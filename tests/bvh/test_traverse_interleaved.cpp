@@ -1,6 +1,8 @@
 // Several rays in flight (bvh/traverse/traverse_interleaved.h) answer each
-// ray bit for bit as traverse_wide does alone, closest and any hit, in both
-// wide layouts and for both triangle tests: whatever order and number of
+// ray bit for bit as traverse_wide does alone, closest and any hit, and
+// report every hit of each ray as traverse_all does
+// (traverse_all_interleaved.h), in both wide layouts and for both triangle
+// tests: whatever order and number of
 // rays it is given (fewer than the slots, one, none), with invalid rays,
 // bounded intervals, a tree that is a single leaf, and rays that end while
 // others are still in flight. It writes exactly the rays it is given.
@@ -10,10 +12,15 @@
 #include <cstring>
 #include <limits>
 #include <numeric>
+#include <optional>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include "bvh/intersect/ray_triangle.h"
 #include "bvh/layout/flatten_wide.h"
+#include "bvh/traverse/traverse_all.h"
+#include "bvh/traverse/traverse_all_interleaved.h"
 #include "bvh/traverse/traverse_interleaved.h"
 #include "bvh/traverse/traverse_wide.h"
 #include "meshgen/mesh_generators.h"
@@ -70,6 +77,44 @@ void expect_same_as_alone(const WideBvh<N>& bvh, const std::vector<Ray>& rays,
   }
 }
 
+// Every hit of traverse_all_interleaved over rays [first, first + count):
+// the same (leaf index, t, u, v) per ray as traverse_all's, in any order,
+// with each ray's own tnear and with one lower end for every leaf test;
+// nothing for rays outside the range or invalid.
+using Visit = std::tuple<uint32_t, float, float, float>;
+template <typename Test, int N>
+void expect_all_hits_as_alone(const WideBvh<N>& bvh, const std::vector<Ray>& rays, size_t first,
+                              size_t count) {
+  for (const std::optional<float> leaf_tnear :
+       {std::optional<float>(), std::optional<float>(-std::numeric_limits<float>::infinity())}) {
+    std::vector<std::vector<Visit>> got(rays.size());
+    traverse_all_interleaved<Test>(
+        bvh, rays.data(), first, count,
+        [&](size_t i, const LeafRange&, uint32_t k, const TriangleHit& h) {
+          got[i].emplace_back(k, h.t, h.u, h.v);
+        },
+        leaf_tnear);
+    size_t visits = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      std::vector<Visit> want;
+      if (i >= first && i < first + count && ray_is_valid(rays[i]))
+        traverse_all<Test>(
+            bvh, rays[i],
+            [&](const LeafRange&, uint32_t k, const TriangleHit& h) {
+              want.emplace_back(k, h.t, h.u, h.v);
+            },
+            leaf_tnear.value_or(rays[i].tnear));
+      std::sort(want.begin(), want.end());
+      std::sort(got[i].begin(), got[i].end());
+      ASSERT_EQ(got[i], want) << "ray " << i;
+      visits += want.size();
+    }
+    if (count > 100) {
+      EXPECT_GT(visits, count / 10);
+    }
+  }
+}
+
 template <typename Test>
 void check_layouts(const std::vector<TriangleMesh>& meshes, TriangleArrays arrays) {
   test::BuiltBvh b = test::build_flat(meshes, {});
@@ -87,6 +132,12 @@ void check_layouts(const std::vector<TriangleMesh>& meshes, TriangleArrays array
   for (const auto* order : {&all, &shuffled, &few, &none}) {
     expect_same_as_alone<Test>(bvh4, rays, *order);
     expect_same_as_alone<Test>(bvh8, rays, *order);
+  }
+  // Every hit: all rays, a range inside the batch, fewer rays than slots, none.
+  for (const auto& [first, count] :
+       {std::pair<size_t, size_t>{0, rays.size()}, {300, 901}, {1995, 3}, {10, 0}}) {
+    expect_all_hits_as_alone<Test>(bvh4, rays, first, count);
+    expect_all_hits_as_alone<Test>(bvh8, rays, first, count);
   }
 }
 

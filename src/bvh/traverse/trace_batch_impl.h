@@ -17,6 +17,7 @@
 #include "bvh/layout/bvh2.h"
 #include "bvh/layout/wide_bvh.h"
 #include "bvh/traverse/traverse_all.h"
+#include "bvh/traverse/traverse_all_interleaved.h"
 #include "bvh/traverse/traverse_bvh2.h"
 #include "bvh/traverse/traverse_interleaved.h"
 #include "bvh/traverse/traverse_packet.h"
@@ -137,17 +138,30 @@ void occluded_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<co
 
 template <typename Test, typename Bvh>
 void count_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t* counts) {
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, rays.size(), kRaysPerTask),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      for (size_t i = range.begin(); i != range.end(); ++i) {
-                        uint32_t n = 0;
-                        if (ray_is_valid(rays[i]))
-                          traverse_all<Test>(
-                              bvh, rays[i],
-                              [&](const LeafRange&, uint32_t, const TriangleHit&) { ++n; });
-                        counts[i] = n;
-                      }
-                    });
+  // In a wide tree of at least kInterleaveMinBytes, several rays in flight
+  // per thread (traverse_all_interleaved.h), as trace_batch does.
+  bool interleave = false;
+  if constexpr (!std::is_same_v<Bvh, Bvh2>)
+    interleave = !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, rays.size(), kRaysPerTask),
+      [&](const tbb::blocked_range<size_t>& range) {
+        if constexpr (!std::is_same_v<Bvh, Bvh2>)
+          if (interleave) {
+            std::fill(counts + range.begin(), counts + range.end(), 0u);
+            traverse_all_interleaved<Test>(
+                bvh, rays.data(), range.begin(), range.size(),
+                [&](size_t i, const LeafRange&, uint32_t, const TriangleHit&) { ++counts[i]; });
+            return;
+          }
+        for (size_t i = range.begin(); i != range.end(); ++i) {
+          uint32_t n = 0;
+          if (ray_is_valid(rays[i]))
+            traverse_all<Test>(bvh, rays[i],
+                               [&](const LeafRange&, uint32_t, const TriangleHit&) { ++n; });
+          counts[i] = n;
+        }
+      });
 }
 
 // Per block of rays its hits, gathered into one array once every block's
@@ -212,10 +226,48 @@ inline bool point_valid(const Vec3f& p) {
   return true;
 }
 
+// In a wide tree of at least kInterleaveMinBytes, the rays of the points
+// that are not on the surface are traced several at a time
+// (traverse_all_interleaved.h), kRaysPerTask points at a time.
+template <int N>
+void locate_interleaved(const WideBvh<N>& bvh, std::span<const Vec3f> points, size_t begin,
+                        size_t end, PointLocation* out) {
+  Ray rays[kRaysPerTask];
+  unsigned crossings[kRaysPerTask];
+  for (size_t b = begin; b < end; b += kRaysPerTask) {
+    const size_t n = std::min(kRaysPerTask, end - b);
+    for (size_t k = 0; k < n; ++k) {
+      const Vec3f& p = points[b + k];
+      crossings[k] = 0;
+      rays[k] = detail::inside_ray(p);
+      if (point_valid(p) && !point_on_surface(bvh, p)) continue;
+      out[b + k] = point_valid(p) ? PointLocation::kOnSurface : PointLocation::kOutside;
+      rays[k].dir = Vec3f(0.0f);  // an invalid ray: not traced
+    }
+    traverse_all_interleaved<WatertightTest>(
+        bvh, rays, 0, n,
+        [&](size_t k, const LeafRange& leaf, uint32_t i, const TriangleHit&) {
+          crossings[k] += detail::crosses_ahead(bvh.triangles, leaf, i, points[b + k]);
+        },
+        detail::kInsideLeafTnear);
+    for (size_t k = 0; k < n; ++k)
+      if (ray_is_valid(rays[k]))
+        out[b + k] = crossings[k] % 2 ? PointLocation::kInside : PointLocation::kOutside;
+  }
+}
+
 template <typename Bvh>
 void locate_batch_impl(const Bvh& bvh, std::span<const Vec3f> points, PointLocation* out) {
+  bool interleave = false;
+  if constexpr (!std::is_same_v<Bvh, Bvh2>)
+    interleave = !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kRaysPerTask),
                     [&](const tbb::blocked_range<size_t>& range) {
+                      if constexpr (!std::is_same_v<Bvh, Bvh2>)
+                        if (interleave) {
+                          locate_interleaved(bvh, points, range.begin(), range.end(), out);
+                          return;
+                        }
                       for (size_t i = range.begin(); i != range.end(); ++i)
                         out[i] = point_valid(points[i]) ? locate_point(bvh, points[i])
                                                         : PointLocation::kOutside;

@@ -150,30 +150,46 @@ bool point_on_surface(const Bvh& bvh, const Vec3f& p) {
   });
 }
 
-// Inside, outside or on the surface (core/point_query.h). p must be a valid
-// ray origin (finite, within Embree's FLT_LARGE).
-template <typename Bvh>
-PointLocation locate_point(const Bvh& bvh, const Vec3f& p) {
-  if (point_on_surface(bvh, p)) return PointLocation::kOnSurface;
+namespace detail {
+// The ray whose crossings decide whether p is inside: from p along
+// kInsideDirection. Boxes are entered from t = 0 on; every triangle the line
+// crosses in them is taken (the leaves' lower end is -inf), and
+// crosses_ahead() decides exactly whether the crossing has t > 0.
+inline Ray inside_ray(const Vec3f& p) {
   Ray ray;
   ray.org = p;
   ray.dir = kInsideDirection;
   ray.tnear = 0.0f;
   ray.tfar = std::numeric_limits<float>::infinity();
-  // Boxes from t = 0 on; every triangle the line crosses in them is taken,
-  // and the side of its plane p lies on decides whether t > 0.
+  return ray;
+}
+inline constexpr float kInsideLeafTnear = -std::numeric_limits<float>::infinity();
+
+// Whether the line of inside_ray(p), which hits triangle i of `leaf`,
+// crosses it ahead of p: t = n.(v0 - p) / n.d > 0, decided by the side of
+// the plane p lies on. (Side 0 would put p on the triangle, which
+// point_on_surface rules out first.)
+inline bool crosses_ahead(const LeafTriangles& tris, const LeafRange& leaf, uint32_t i,
+                          const Vec3f& p) {
+  const TriangleVerts t = tris.triangle(leaf, i);
+  const int side = exact::orient3d(t.v0, t.v1, t.v2, p);
+  const int facing = exact::plane_direction(t.v0, t.v1, t.v2, kInsideDirection);
+  return side != 0 && facing != 0 && side != facing;
+}
+}  // namespace detail
+
+// Inside, outside or on the surface (core/point_query.h). p must be a valid
+// ray origin (finite, within Embree's FLT_LARGE).
+template <typename Bvh>
+PointLocation locate_point(const Bvh& bvh, const Vec3f& p) {
+  if (point_on_surface(bvh, p)) return PointLocation::kOnSurface;
   unsigned crossings = 0;
   traverse_all<WatertightTest>(
-      bvh, ray,
+      bvh, detail::inside_ray(p),
       [&](const LeafRange& leaf, uint32_t i, const TriangleHit&) {
-        const TriangleVerts t = bvh.triangles.triangle(leaf, i);
-        const int side = exact::orient3d(t.v0, t.v1, t.v2, p);
-        const int facing = exact::plane_direction(t.v0, t.v1, t.v2, kInsideDirection);
-        // t = n.(v0 - p) / n.d > 0. (side = 0 would put p on the triangle,
-        // which point_on_surface has ruled out.)
-        if (side != 0 && facing != 0 && side != facing) ++crossings;
+        crossings += detail::crosses_ahead(bvh.triangles, leaf, i, p);
       },
-      -std::numeric_limits<float>::infinity());
+      detail::kInsideLeafTnear);
   return crossings % 2 ? PointLocation::kInside : PointLocation::kOutside;
 }
 
