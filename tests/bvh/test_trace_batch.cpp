@@ -4,6 +4,7 @@
 // nothing past the batch; invalid rays miss.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstring>
 #include <limits>
 #include <vector>
@@ -106,11 +107,12 @@ TEST(TraceBatch, LargeTreeTracedInterleavedEqualsSingleRays) {
   }
 }
 
-// The count and inside queries of such a tree trace several rays at a time
-// too (traverse_all_interleaved.h): the same counts as traverse_all ray by
-// ray, the same locations as locate_point point by point (random points,
-// points exactly on the surface, invalid points and rays).
-TEST(TraceBatch, LargeTreeCountsAndLocatesInterleavedAsOneByOne) {
+// The count, all and inside queries of such a tree trace several rays at a
+// time too (traverse_all_interleaved.h): the same counts and hit lists
+// (bounded or not) as traverse_all ray by ray, the same locations as
+// locate_point point by point (random points, points exactly on the
+// surface, invalid points and rays).
+TEST(TraceBatch, LargeTreeCountsListsAndLocatesInterleavedAsOneByOne) {
   test::BuiltBvh b = test::build_flat({generate_bumpy_sphere(320000, 3)}, {});
   const AABB box = b.scene.bounds();
   std::vector<Ray> rays = test::random_rays(box, 3001, 17);
@@ -149,6 +151,31 @@ TEST(TraceBatch, LargeTreeCountsAndLocatesInterleavedAsOneByOne) {
       crossed += want > 0;
     }
     EXPECT_GT(crossed, rays.size() / 10);
+    // Every hit, nearest first: the counts' hits, cut at a bound of 2.
+    for (const uint32_t bound : {1024u, 2u}) {
+      HitLists lists;
+      all_batch(bvh8, kind, rays, bound, lists);
+      ASSERT_EQ(lists.rays(), rays.size());
+      for (size_t i = 0; i < rays.size(); ++i) {
+        std::vector<Hit> want;
+        const auto one = [&](const LeafRange&, uint32_t t, const TriangleHit& h) {
+          want.push_back(
+              Hit{h.t, h.u, h.v, bvh8.triangles.refs[t].geom_id, bvh8.triangles.refs[t].prim_id});
+        };
+        if (ray_is_valid(rays[i])) {
+          if (kind == TriangleTestKind::kWatertight)
+            traverse_all<WatertightTest>(bvh8, rays[i], one);
+          else
+            traverse_all<MollerTest>(bvh8, rays[i], one);
+        }
+        std::sort(want.begin(), want.end(), hit_list_before);
+        ASSERT_EQ(lists.truncated[i], want.size() > bound ? 1 : 0) << "ray " << i;
+        want.resize(std::min<size_t>(want.size(), bound));
+        ASSERT_EQ(lists.count(i), want.size()) << "ray " << i;
+        for (size_t k = 0; k < want.size(); ++k)
+          ASSERT_TRUE(same_hit(lists.hits[lists.offsets[i] + k], want[k])) << "ray " << i;
+      }
+    }
     if (kind != TriangleTestKind::kWatertight) continue;  // inside reads exact vertices
     std::vector<PointLocation> where(points.size(), PointLocation(9));
     locate_batch(bvh8, points, where.data());

@@ -11,6 +11,7 @@
 #include <cstdint>
 #include <span>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "bvh/intersect/ray_triangle.h"
@@ -175,22 +176,55 @@ void all_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t max_per_
   std::vector<uint32_t> kept(n);
   out.truncated.assign(n, 0);
   const auto& refs = bvh.triangles.refs;
+  // In a wide tree of at least kInterleaveMinBytes, a block's rays are
+  // traced several at a time (traverse_all_interleaved.h), their hits
+  // tagged with the ray and sorted by ray, then by hit_list_before.
+  bool interleave = false;
+  if constexpr (!std::is_same_v<Bvh, Bvh2>)
+    interleave = !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
   tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
-    std::vector<Hit> ray_hits;
     std::vector<Hit>& dst = block_hits[b];
-    for (size_t i = b * kRaysPerTask; i < std::min(n, (b + 1) * kRaysPerTask); ++i) {
+    const size_t first = b * kRaysPerTask, end = std::min(n, first + kRaysPerTask);
+    // Ray i's hits, in order: the nearest max_per_ray go to dst.
+    const auto keep = [&](size_t i, const Hit* hits, size_t count) {
+      if (count > max_per_ray) {
+        out.truncated[i] = 1;
+        count = max_per_ray;
+      }
+      kept[i] = uint32_t(count);
+      dst.insert(dst.end(), hits, hits + count);
+    };
+    if constexpr (!std::is_same_v<Bvh, Bvh2>)
+      if (interleave) {
+        std::vector<std::pair<uint32_t, Hit>> tagged;
+        traverse_all_interleaved<Test>(
+            bvh, rays.data(), first, end - first,
+            [&](size_t i, const LeafRange&, uint32_t t, const TriangleHit& h) {
+              tagged.emplace_back(uint32_t(i - first),
+                                  Hit{h.t, h.u, h.v, refs[t].geom_id, refs[t].prim_id});
+            });
+        std::sort(tagged.begin(), tagged.end(), [](const auto& x, const auto& y) {
+          return x.first != y.first ? x.first < y.first : hit_list_before(x.second, y.second);
+        });
+        std::vector<Hit> ray_hits;
+        size_t j = 0;
+        for (size_t i = first; i < end; ++i) {
+          ray_hits.clear();
+          for (; j < tagged.size() && tagged[j].first == i - first; ++j)
+            ray_hits.push_back(tagged[j].second);
+          keep(i, ray_hits.data(), ray_hits.size());
+        }
+        return;
+      }
+    std::vector<Hit> ray_hits;
+    for (size_t i = first; i < end; ++i) {
       ray_hits.clear();
       if (ray_is_valid(rays[i]))
         traverse_all<Test>(bvh, rays[i], [&](const LeafRange&, uint32_t t, const TriangleHit& h) {
           ray_hits.push_back(Hit{h.t, h.u, h.v, refs[t].geom_id, refs[t].prim_id});
         });
       std::sort(ray_hits.begin(), ray_hits.end(), hit_list_before);
-      if (ray_hits.size() > max_per_ray) {
-        out.truncated[i] = 1;
-        ray_hits.resize(max_per_ray);
-      }
-      kept[i] = uint32_t(ray_hits.size());
-      dst.insert(dst.end(), ray_hits.begin(), ray_hits.end());
+      keep(i, ray_hits.data(), ray_hits.size());
     }
   });
   out.offsets.assign(n + 1, 0);

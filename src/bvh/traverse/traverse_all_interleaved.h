@@ -1,5 +1,5 @@
-// Every hit along each of several rays of the wide layout (the count and
-// inside queries on large trees), several rays in flight per thread, as
+// Every hit along each of several rays of the wide layout (the count, all
+// and inside queries on large trees), several rays in flight per thread, as
 // traverse_interleaved.h does for the closest and any hit: K rays take turns,
 // one node or leaf each, and the children a turn pushes are requested then,
 // so a popped node's lines have had the other rays' turns to arrive. Each ray
