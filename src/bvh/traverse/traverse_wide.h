@@ -15,30 +15,17 @@
 #include "bvh/intersect/ray_box_wide.h"
 #include "bvh/layout/wide_bvh.h"
 #include "bvh/traverse/traverse_bvh2.h"
+#include "bvh/traverse/wide_child_order.h"
 #include "core/prefetch.h"
 
 namespace hprt {
 
 namespace detail {
-// Plain data (no NodeRef default member), so the stack array is left
-// uninitialised: it is large (N = 8: 449 entries) and set per ray.
-struct WideStackEntry {
-  uint64_t ref;
-  float entry;
-};
-
-// Each wide level pushes at most N - 1 entries and the tree is no deeper
-// than the binary tree it was collapsed from.
-template <int N>
-inline constexpr int kWideStackSize = 1 + (N - 1) * kMaxBuildDepth;
-
 template <int N>
 HPRT_FORCE_INLINE void prefetch_node(const WideNode<N>* node) {
   prefetch_lines(node, sizeof(WideNode<N>));
 }
-}  // namespace detail
 
-namespace detail {
 // One inner node of a closest-hit or any-hit traversal: tests the ray
 // against its children, pushes the hit ones it does not enter (ordered as
 // the file's comment says) and returns the one to enter next, or an empty
@@ -50,7 +37,8 @@ HPRT_FORCE_INLINE NodeRef visit_wide_node(const WideBvh<N>& bvh, const WideNode<
                                           const WideSlabRay& slab, float tnear, float tfar,
                                           WideStackEntry* stack, int& sp) {
   alignas(32) float dist[N];
-  unsigned mask = slab_wide<N>(slab, node, tnear, tfar, dist);
+  const unsigned all = slab_wide<N>(slab, node, tnear, tfar, dist);
+  unsigned mask = all;
   if constexpr (kPrefetchChildren)
     for (unsigned m = mask; m; m &= m - 1) {
       const NodeRef c = node.child[__builtin_ctz(m)];
@@ -81,22 +69,9 @@ HPRT_FORCE_INLINE NodeRef visit_wide_node(const WideBvh<N>& bvh, const WideNode<
     }
     return node.child[i0];
   }
-  // Three or more: push all, insertion-sort the pushed run so entry
-  // distances decrease towards the top, enter the nearest.
-  const int base = sp;
-  stack[sp++] = {node.child[i0].bits, dist[i0]};
-  stack[sp++] = {node.child[i1].bits, dist[i1]};
-  for (; mask; mask &= mask - 1) {
-    const int i = __builtin_ctz(mask);
-    stack[sp++] = {node.child[i].bits, dist[i]};
-  }
-  for (int a = base + 1; a < sp; ++a) {
-    const WideStackEntry e = stack[a];
-    int b = a;
-    for (; b > base && stack[b - 1].entry < e.entry; --b) stack[b] = stack[b - 1];
-    stack[b] = e;
-  }
-  return NodeRef{stack[--sp].ref};
+  // Three or more: push all so that entry distances decrease towards the
+  // top, enter the nearest (wide_child_order.h).
+  return push_children_sorted<N>(node, dist, all, stack, sp);
 }
 
 // The next stack entry that may still hold a hit closer than tfar, or an
