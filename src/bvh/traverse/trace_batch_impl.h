@@ -62,6 +62,16 @@ float packet_origin_tolerance(const Bvh& bvh) {
     return packet_origin_tolerance(bvh.bounds);
 }
 
+// Whether a batch over `bvh` keeps several rays in flight per thread: wide
+// trees of at least kInterleaveMinBytes (trace_batch.h).
+template <typename Bvh>
+bool interleaves(const Bvh& bvh) {
+  if constexpr (std::is_same_v<Bvh, Bvh2>)
+    return false;
+  else
+    return !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
+}
+
 // kAnyHit writes `occluded`, otherwise `hits`. In a tree of at least
 // kInterleaveMinBytes the rays of a task that no packet takes are traced
 // several at a time (traverse_interleaved.h), in runs of up to
@@ -71,8 +81,7 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
   constexpr bool kWide = !std::is_same_v<Bvh, Bvh2>;
   constexpr size_t kInterleavedRun = 256;
   const float tolerance = packet_origin_tolerance(bvh);
-  bool interleave = false;
-  if constexpr (kWide) interleave = !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
+  const bool interleave = interleaves(bvh);
   const size_t groups = (rays.size() + kRayGroup - 1) / kRayGroup;
   tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, kRaysPerTask / kRayGroup),
                     [&](const tbb::blocked_range<size_t>& range) {
@@ -141,9 +150,7 @@ template <typename Test, typename Bvh>
 void count_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t* counts) {
   // In a wide tree of at least kInterleaveMinBytes, several rays in flight
   // per thread (traverse_all_interleaved.h), as trace_batch does.
-  bool interleave = false;
-  if constexpr (!std::is_same_v<Bvh, Bvh2>)
-    interleave = !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
+  const bool interleave = interleaves(bvh);
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, rays.size(), kRaysPerTask),
       [&](const tbb::blocked_range<size_t>& range) {
@@ -179,9 +186,7 @@ void all_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t max_per_
   // In a wide tree of at least kInterleaveMinBytes, a block's rays are
   // traced several at a time (traverse_all_interleaved.h), their hits
   // tagged with the ray and sorted by ray, then by hit_list_before.
-  bool interleave = false;
-  if constexpr (!std::is_same_v<Bvh, Bvh2>)
-    interleave = !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
+  const bool interleave = interleaves(bvh);
   tbb::parallel_for(size_t(0), blocks, [&](size_t b) {
     std::vector<Hit>& dst = block_hits[b];
     const size_t first = b * kRaysPerTask, end = std::min(n, first + kRaysPerTask);
@@ -292,9 +297,7 @@ void locate_interleaved(const WideBvh<N>& bvh, std::span<const Vec3f> points, si
 
 template <typename Bvh>
 void locate_batch_impl(const Bvh& bvh, std::span<const Vec3f> points, PointLocation* out) {
-  bool interleave = false;
-  if constexpr (!std::is_same_v<Bvh, Bvh2>)
-    interleave = !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
+  const bool interleave = interleaves(bvh);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, points.size(), kRaysPerTask),
                     [&](const tbb::blocked_range<size_t>& range) {
                       if constexpr (!std::is_same_v<Bvh, Bvh2>)
