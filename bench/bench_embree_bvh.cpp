@@ -104,6 +104,7 @@ EmbreeBvhResult EmbreeBvhBuilder::build(const BuildOptions& options) {
   args.maxLeafSize = uint32_t(std::max(1, options.max_leaf_size));
   args.traversalCost = options.sah.traversal_cost;
   args.intersectionCost = options.sah.intersection_cost;
+  args.sahBlockSize = uint32_t(options.sah.leaf_block);  // C_i per block, as ours
   args.bvh = impl_->bvh;
   args.primitives = impl_->work.data();
   args.primitiveCount = impl_->work.size();

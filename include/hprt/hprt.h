@@ -122,7 +122,7 @@ class HPRT_API Scene {
 
 // Backend options by the command line's names, without the dashes:
 // threads, builder (sweep|presorted|binned|parallel|morton), bins, leaf_size,
-// sah_traversal, sah_intersection, isect (watertight|mt),
+// sah_traversal, sah_intersection, sah_leaf_block, isect (watertight|mt),
 // layout (bvh2|bvh4|bvh8), quality (low|medium|high|refit), robust (on|off),
 // update (rebuild|refit|adaptive), adaptive_factor. Values as on the command
 // line ("32", "morton"); an unknown key or a bad value throws Error

@@ -166,6 +166,9 @@ def test_backend_options_and_plugins():
     scene.add_triangles(v, t)
     scene.cast_rays([down(0, 0)])
     assert scene.info()["backend"] == "bvh/morton/watertight/bvh4"
+    blocks = hprt.RaycastingScene(sah_leaf_block=4, leaf_size=16)
+    blocks.add_triangles(v, t)
+    assert blocks.cast_rays([down(0.1, 0.1)])["t_hit"][0] == pytest.approx(2.0)
     robust = hprt.RaycastingScene(backend="embree", robust=True, quality="high")
     robust.add_triangles(v, t)
     assert robust.cast_rays([down(0.1, 0.1)])["t_hit"][0] == pytest.approx(2.0)

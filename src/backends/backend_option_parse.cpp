@@ -77,6 +77,8 @@ void set_backend_option(BackendOptions& o, std::string_view key, std::string_vie
     o.build.sah.traversal_cost = parse_float(key, v, 0.0f, 1.0e6f);
   } else if (key == "sah_intersection") {
     o.build.sah.intersection_cost = parse_float(key, v, 1.0e-6f, 1.0e6f);
+  } else if (key == "sah_leaf_block") {
+    o.build.sah.leaf_block = parse_int(key, v, 1, kMaxLeafBlock);
   } else if (key == "isect") {
     o.triangle_test = need(key, v, parse_triangle_test(v), "watertight or mt");
   } else if (key == "layout") {
@@ -92,7 +94,8 @@ void set_backend_option(BackendOptions& o, std::string_view key, std::string_vie
   } else {
     bad(key,
         "unknown backend option (expected threads, builder, bins, leaf_size, sah_traversal, "
-        "sah_intersection, isect, layout, quality, robust, update or adaptive_factor)");
+        "sah_intersection, sah_leaf_block, isect, layout, quality, robust, update or "
+        "adaptive_factor)");
   }
 }
 

@@ -67,6 +67,11 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
       ->check(kFinite)
       ->check(CLI::Range(1.0e-6f, 1.0e6f))
       ->capture_default_str();
+  cmd.add_option("--sah-leaf-block", o.options.build.sah.leaf_block,
+                 "bvh: the SAH charges C_i per block of this many triangles (1: per triangle; "
+                 "Embree's SAH: 4)")
+      ->check(CLI::Range(1, kMaxLeafBlock))
+      ->capture_default_str();
   cmd.add_option("--isect", o.isect, "bvh: ray/triangle test")
       ->check(CLI::IsMember({"watertight", "mt"}))
       ->capture_default_str();

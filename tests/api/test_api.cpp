@@ -86,6 +86,13 @@ TEST(Api, OptionsUseTheCommandLinesNamesAndChecks) {
             }),
             "leaf_size: must be in [1, 255], got 0");
   EXPECT_EQ(error_of([] {
+              api::Backend("bvh", {{"sah_leaf_block", "0"}});
+            }),
+            "sah_leaf_block: must be in [1, 64], got 0");
+  api::Backend blocks("bvh", {{"sah_leaf_block", "4"}, {"leaf_size", "16"}});
+  blocks.build(scene);
+  EXPECT_GT(blocks.info().memory_bytes, 0u);
+  EXPECT_EQ(error_of([] {
               api::Backend("bvh", {{"builder", "fast"}});
             }),
             "builder: expected sweep, presorted, binned, parallel or morton, got 'fast'");

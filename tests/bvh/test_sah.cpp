@@ -16,6 +16,31 @@ TEST(Sah, CostsFollowEquationOne) {
   EXPECT_FLOAT_EQ(sah_split_cost(p, 10.0f, 4.0f, 1, 6.0f, 3), 20.0f + 3.0f * 22.0f);
 }
 
+TEST(Sah, LeafBlocksCountWholeBlocks) {
+  SahParams p;
+  p.traversal_cost = 1.0f;
+  p.intersection_cost = 2.0f;
+  p.leaf_block = 4;
+  EXPECT_FLOAT_EQ(sah_units(p, 1), 1.0f);
+  EXPECT_FLOAT_EQ(sah_units(p, 4), 1.0f);
+  EXPECT_FLOAT_EQ(sah_units(p, 5), 2.0f);
+  EXPECT_FLOAT_EQ(sah_units(p, 16), 4.0f);
+  // Scaled by SA(P) = 10: leaf of 6 = 2 * 2 blocks * 10; split 1*10 + 2*(4*1 + 6*3 blocks).
+  EXPECT_FLOAT_EQ(sah_leaf_cost(p, 10.0f, 6), 40.0f);
+  EXPECT_FLOAT_EQ(sah_split_cost(p, 10.0f, 4.0f, 3, 6.0f, 9), 10.0f + 2.0f * (4.0f + 18.0f));
+  // Per triangle (the report's cost) when the block is 1.
+  p.leaf_block = 1;
+  EXPECT_FLOAT_EQ(sah_leaf_cost(p, 10.0f, 6), 120.0f);
+  // A leaf of 8 beats splitting it into two halves of the same area with
+  // blocks of 4 (2 blocks either way, plus the node), not per triangle.
+  p.traversal_cost = 1.0f;
+  p.intersection_cost = 1.0f;
+  p.leaf_block = 4;
+  EXPECT_TRUE(sah_make_leaf(p, 8, 1.0f, 8, sah_split_cost(p, 1.0f, 0.8f, 4, 0.8f, 4)));
+  p.leaf_block = 1;
+  EXPECT_FALSE(sah_make_leaf(p, 8, 1.0f, 8, sah_split_cost(p, 1.0f, 0.8f, 4, 0.8f, 4)));
+}
+
 TEST(Sah, LeafRule) {
   const SahParams p;                                     // 1, 1
   EXPECT_TRUE(sah_make_leaf(p, 4, 1.0f, 1, 0.0f));       // one primitive: always a leaf

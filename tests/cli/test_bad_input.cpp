@@ -280,6 +280,9 @@ TEST_F(BadInput, AbsurdOptions) {
                   {"--adaptive-factor"});
   expect_rejected("--sah-intersection 0", "trace good.ply --sah-intersection 0 --rays r -o o",
                   {"--sah-intersection"});
+  expect_rejected("--sah-leaf-block 0", "build good.ply --sah-leaf-block 0", {"--sah-leaf-block"});
+  expect_rejected("--sah-leaf-block 65", "trace good.ply --sah-leaf-block 65 --rays r -o o",
+                  {"--sah-leaf-block"});
   expect_rejected("--width 0", "render good.ply --width 0 -o out.png", {"--width"});
   expect_rejected("--width -5", "render good.ply --width -5 -o out.png", {"--width"});
   expect_rejected("--height 0", "render good.ply --height 0 -o out.png", {"--height"});

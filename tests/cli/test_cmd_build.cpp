@@ -107,6 +107,30 @@ TEST_F(CmdBuild, SahConstantsShapeTheTree) {
   EXPECT_LE(jb["leaves"].get<size_t>(), ja["leaves"].get<size_t>());
   EXPECT_LT(ja["leaves"].get<size_t>(), jc["leaves"].get<size_t>());
   EXPECT_EQ(jd["tree_hash"], ja["tree_hash"]);  // 4 : 2 is 2 : 1
+  EXPECT_EQ(ja["sah_leaf_block"], 1);
+}
+
+// Charging C_i per block of 4 triangles (Embree's SAH) with room for larger
+// leaves gives fewer, fuller leaves than per-triangle costs with the same
+// room, never above --leaf-size; every SAH builder honours it.
+TEST_F(CmdBuild, SahLeafBlocksMakeFullerLeaves) {
+  for (const char* builder : {"sweep", "binned", "parallel"}) {
+    SCOPED_TRACE(builder);
+    const std::string base = "build " + mesh_ + " --builder " + builder + " --leaf-size 16";
+    const CliResult a = run(base + " --json");
+    const CliResult b = run(base + " --sah-leaf-block 4 --sah-traversal 1 --json");
+    const CliResult c = run(base + " --sah-traversal 1 --json");
+    ASSERT_EQ(a.code, 0) << a.err;
+    ASSERT_EQ(b.code, 0) << b.err;
+    ASSERT_EQ(c.code, 0) << c.err;
+    const auto ja = nlohmann::json::parse(a.out), jb = nlohmann::json::parse(b.out),
+               jc = nlohmann::json::parse(c.out);
+    EXPECT_EQ(jb["sah_leaf_block"], 4);
+    EXPECT_LT(jb["leaves"].get<size_t>(), jc["leaves"].get<size_t>());
+    EXPECT_LT(jb["leaves"].get<size_t>(), ja["leaves"].get<size_t>());
+    EXPECT_GT(jb["avg_leaf_size"].get<double>(), ja["avg_leaf_size"].get<double>());
+    EXPECT_LE(jb["max_leaf_size"].get<int>(), 16);
+  }
 }
 
 TEST_F(CmdBuild, BadInputExitsTwo) {

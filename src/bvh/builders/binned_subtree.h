@@ -29,15 +29,18 @@ inline SplitKind decide_before_binning(size_t n, int depth, int max_leaf_size,
 }
 
 // True when a leaf costs no more than a lower bound of every split's cost,
-// C_t SA(P) + C_i sum SA(prim) (a child's box holds its primitives' boxes, and
-// computed areas grow with the box): binning would choose the leaf too. The
-// margin covers the rounding of both sums, so the answer is always binning's.
+// C_t SA(P) + C_i sum SA(prim) / leaf_block (a child's box holds its
+// primitives' boxes, computed areas grow with the box, and a child of n
+// primitives counts at least n / leaf_block blocks): binning would choose the
+// leaf too. The margin covers the rounding of both sums, so the answer is
+// always binning's.
 inline bool leaf_before_binning(const BoxRef* refs, size_t n, float parent_area,
                                 const BuildOptions& o) {
   if (n > static_cast<size_t>(o.max_leaf_size) || n > kSmallNodeMax) return false;
   float areas = 0.0f;
   for (size_t i = 0; i < n; ++i) areas += vec_half_area(refs[i].lo, refs[i].hi);
-  const float bound = o.sah.traversal_cost * parent_area + o.sah.intersection_cost * areas;
+  const float bound = o.sah.traversal_cost * parent_area +
+                      o.sah.intersection_cost * areas / static_cast<float>(o.sah.leaf_block);
   return sah_leaf_cost(o.sah, parent_area, n) <= bound * (1.0f - 1e-5f);
 }
 

@@ -33,6 +33,9 @@ inline void validate_build_options(const BuildOptions& o) {
   if (!(o.sah.intersection_cost > 0.0f))
     throw OptionError("sah_intersection",
                       "must be above 0, got " + std::to_string(o.sah.intersection_cost));
+  if (o.sah.leaf_block < 1 || o.sah.leaf_block > kMaxLeafBlock)
+    throw OptionError("sah_leaf_block", "must be between 1 and " + std::to_string(kMaxLeafBlock) +
+                                            ", got " + std::to_string(o.sah.leaf_block));
 }
 
 // Union of boxes and of centroids of prims ids[0, n).

@@ -70,8 +70,9 @@ void run_build(const BuildArgs& a) {
   std::fprintf(stderr, "  %-20s %d\n", "threads", threads);
   std::fprintf(stderr, "  %-20s %d\n", "bins", options.build.bins);
   std::fprintf(stderr, "  %-20s %d\n", "leaf size (max)", options.build.max_leaf_size);
-  std::fprintf(stderr, "  %-20s C_t %g, C_i %g\n", "SAH constants",
-               options.build.sah.traversal_cost, options.build.sah.intersection_cost);
+  std::fprintf(stderr, "  %-20s C_t %g, C_i %g per %d triangle%s\n", "SAH constants",
+               options.build.sah.traversal_cost, options.build.sah.intersection_cost,
+               options.build.sah.leaf_block, options.build.sah.leaf_block == 1 ? "" : "s");
   std::fprintf(stderr, "  %-20s %s\n", "layout", layout.c_str());
   std::fprintf(stderr, "  %-20s %zu (+%zu invalid)\n", "triangles", s.triangles,
                s.invalid_triangles);
@@ -92,6 +93,7 @@ void run_build(const BuildArgs& a) {
     j["leaf_size"] = options.build.max_leaf_size;
     j["sah_traversal_cost"] = options.build.sah.traversal_cost;
     j["sah_intersection_cost"] = options.build.sah.intersection_cost;
+    j["sah_leaf_block"] = options.build.sah.leaf_block;
     j["layout"] = layout;
     j["triangles"] = s.triangles;
     j["invalid_triangles"] = s.invalid_triangles;
