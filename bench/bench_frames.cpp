@@ -43,7 +43,9 @@ struct FrameConfig {
   }
 };
 
+// The first row runs with the default options (BackendOptions{}).
 constexpr FrameConfig kConfigs[] = {
+    {"bvh auto (default)", "bvh", UpdateStrategy::kAuto, "medium"},
     {"bvh rebuild", "bvh", UpdateStrategy::kRebuild, "medium"},
     {"bvh refit", "bvh", UpdateStrategy::kRefit, "medium"},
     {"bvh adaptive", "bvh", UpdateStrategy::kAdaptive, "medium"},
@@ -61,7 +63,7 @@ constexpr FrameConfig kConfigs[] = {
     {"embree dynamic low robust", "embree", UpdateStrategy::kAdaptive, "low",
      TriangleTestKind::kWatertight, true},
 };
-constexpr size_t kEmbreeRefitRow = 7;
+constexpr size_t kEmbreeRefitRow = 8;
 static_assert(std::string_view(kConfigs[kEmbreeRefitRow].label) == "embree dynamic refit");
 
 struct AnimCase {
@@ -74,6 +76,7 @@ struct CaseResult {
   double build_ms = 0.0;  // frame 0
   TimingStats deform, update, render, frame;
   int rebuilds = 0;
+  std::string updates;                     // a letter per timed frame (update_letter)
   double sah_first = 0.0, sah_last = 0.0;  // after frame 1 and the last frame
   double mrays_per_s = 0.0;                // over all timed frames' renders
 };
@@ -109,6 +112,14 @@ std::vector<AnimCase> default_cases(const Scene& scene, int frames) {
   return out;
 }
 
+// What a frame's update did: r refit, m Morton rebuild, s rebuild with an
+// SAH builder, b a rebuild of a backend that does not name its builder.
+char update_letter(const BuildInfo& info) {
+  if (!info.rebuilt) return 'r';
+  if (info.rebuilt_with.empty()) return 'b';
+  return info.rebuilt_with == "morton" ? 'm' : 's';
+}
+
 CaseResult run_config(const AnimCase& ac, const FrameConfig& fc, int threads, float factor,
                       Progress& progress) {
   CaseResult res;
@@ -141,6 +152,7 @@ CaseResult run_config(const AnimCase& ac, const FrameConfig& fc, int threads, fl
       }
       deform.push_back(f.animate_ms);
       res.rebuilds += f.info.rebuilt ? 1 : 0;
+      res.updates += update_letter(f.info);
       if (f.info.has_tree_stats) {
         if (f.frame == 1) res.sah_first = f.info.stats.sah_cost;
         res.sah_last = f.info.stats.sah_cost;
@@ -165,6 +177,7 @@ CaseResult run_config(const AnimCase& ac, const FrameConfig& fc, int threads, fl
 Table make_table() {
   return Table({{"case", 0},
                 {"config", 0},
+                {"default", 0},
                 {"triangles", 0},
                 {"threads", 0},
                 {"frames", 0},
@@ -182,6 +195,7 @@ Table make_table() {
                 {"frame_mean_ms", 1},
                 {"deform_ms", 2},
                 {"rebuilds", 0},
+                {"updates", 0},
                 {"sah_cost_first", 1},
                 {"sah_cost_last", 1},
                 {"mrays_per_s", 2},
@@ -259,6 +273,7 @@ BenchReport run_frames_bench(const FramesBenchConfig& config) {
       auto row = table.new_row();
       row.set("case", ac.name)
           .set("config", configs[i].label)
+          .set("default", i == 0)
           .set("triangles", ac.scene.triangle_count())
           .set("threads", threads)
           .set("frames", ac.frames)
@@ -276,6 +291,7 @@ BenchReport run_frames_bench(const FramesBenchConfig& config) {
           .set("frame_mean_ms", r.frame.mean_ms)
           .set("deform_ms", r.deform.median_ms)
           .set("rebuilds", r.rebuilds)
+          .set("updates", r.updates)
           .set("mrays_per_s", r.mrays_per_s)
           .set("update_vs_embree_refit",
                embree_update > 0.0 ? r.update.mean_ms / embree_update : 0.0)
@@ -300,6 +316,11 @@ BenchReport run_frames_bench(const FramesBenchConfig& config) {
       "watertight bvh rows against Embree's robust rows, the Möller–Trumbore rows (mt) and "
       "Embree's default rows against each other (`hprt bench frontier` counts the rays each "
       "gets wrong).");
+  table.add_note(
+      "default: the row that runs with the default options (no flags): bvh auto, which after "
+      "each refit keeps the refitted tree or rebuilds it with the Morton or the SAH builder, "
+      "whichever its measured rebuild and query times say is cheaper over the coming frames. "
+      "updates: per timed frame, r refit, m Morton rebuild, s SAH rebuild, b rebuild (Embree).");
   table.add_note(
       "bvh adaptive refits while the refitted SAH cost stays within adaptive_factor (see the "
       "parameters) x the cost at the last rebuild; rebuilds counts the frames that rebuilt. Embree "

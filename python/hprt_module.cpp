@@ -307,7 +307,7 @@ PYBIND11_MODULE(hprt, m) {
           py::arg("nthreads") = 0, py::arg("backend") = "bvh",
           "backend: bvh, embree or plugin:PATH.so[:OPTIONS]; keyword options as the command "
           "line's (builder='morton', layout='bvh4', leaf_size=2, quality='high', robust=True, "
-          "update='refit', ...)")
+          "update='refit' (auto, rebuild, refit or adaptive; default auto), ...)")
       .def("add_triangles", &add_triangles, py::arg("vertex_positions"),
            py::arg("triangle_indices") = py::none(),
            "(N,3) vertices and (M,3) triangle indices (float32 and uint32 C-contiguous arrays "

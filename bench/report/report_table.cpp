@@ -52,6 +52,8 @@ std::string format_cell(const Cell& cell, int decimals) {
   if (std::holds_alternative<std::monostate>(cell)) return decimals >= 0 ? "–" : "";
   if (const auto* s = std::get_if<std::string>(&cell)) return *s;
   if (const auto* i = std::get_if<int64_t>(&cell)) return std::to_string(*i);
+  if (const auto* b = std::get_if<bool>(&cell))
+    return decimals >= 0 ? (*b ? "yes" : "no") : (*b ? "true" : "false");
   const double d = std::get<double>(cell);
   if (std::isnan(d)) return decimals >= 0 ? "–" : "";
   if (std::isinf(d)) return d > 0 ? "inf" : "-inf";
@@ -66,6 +68,7 @@ std::string format_cell(const Cell& cell, int decimals) {
 nlohmann::json cell_to_json(const Cell& cell) {
   if (const auto* s = std::get_if<std::string>(&cell)) return *s;
   if (const auto* i = std::get_if<int64_t>(&cell)) return *i;
+  if (const auto* b = std::get_if<bool>(&cell)) return *b;
   if (const auto* d = std::get_if<double>(&cell)) {
     if (std::isfinite(*d)) return *d;
     if (std::isinf(*d)) return *d > 0 ? "inf" : "-inf";

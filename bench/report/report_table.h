@@ -13,8 +13,9 @@
 
 namespace hprt::bench {
 
-// One cell: empty (printed "–" in Markdown, empty in CSV, null in JSON).
-using Cell = std::variant<std::monostate, std::string, int64_t, double>;
+// One cell: empty (printed "–" in Markdown, empty in CSV, null in JSON);
+// a bool is "yes"/"no" in Markdown, true/false in CSV and JSON.
+using Cell = std::variant<std::monostate, std::string, int64_t, double, bool>;
 
 struct Column {
   std::string name;
@@ -54,6 +55,7 @@ class Table {
     RowBuilder& set(const std::string& column, float value) {
       return set_cell(column, Cell(double(value)));
     }
+    RowBuilder& set(const std::string& column, bool value) { return set_cell(column, Cell(value)); }
     template <std::integral T>
     RowBuilder& set(const std::string& column, T value) {
       return set_cell(column, Cell(int64_t(value)));

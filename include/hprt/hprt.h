@@ -124,7 +124,7 @@ class HPRT_API Scene {
 // threads, builder (sweep|presorted|binned|parallel|morton), bins, leaf_size,
 // sah_traversal, sah_intersection, sah_leaf_block, isect (watertight|mt),
 // layout (bvh2|bvh4|bvh8), quality (low|medium|high|refit), robust (on|off),
-// update (rebuild|refit|adaptive), adaptive_factor. Values as on the command
+// update (auto|rebuild|refit|adaptive), adaptive_factor. Values as on the command
 // line ("32", "morton"); an unknown key or a bad value throws Error
 // "key: problem". Options that do not apply to a backend are ignored by it.
 using Options = std::map<std::string, std::string>;

@@ -89,7 +89,7 @@ def test_nan_rays_miss_and_empty_scene():
 
 def test_arrays_are_used_in_place_and_update_triangles():
     v, t = grid(8)
-    for update in ["refit", "rebuild", "adaptive"]:
+    for update in ["auto", "refit", "rebuild", "adaptive"]:
         scene = hprt.RaycastingScene(update=update)
         gid = scene.add_triangles(v, t)
         rays = np.array([down(0.3, -0.2)], np.float32)

@@ -53,6 +53,7 @@ std::optional<UpdateStrategy> parse_update(std::string_view v) {
   if (v == "rebuild") return UpdateStrategy::kRebuild;
   if (v == "refit") return UpdateStrategy::kRefit;
   if (v == "adaptive") return UpdateStrategy::kAdaptive;
+  if (v == "auto") return UpdateStrategy::kAuto;
   return std::nullopt;
 }
 
@@ -88,7 +89,7 @@ void set_backend_option(BackendOptions& o, std::string_view key, std::string_vie
   } else if (key == "robust") {
     o.embree_robust = need(key, v, parse_on_off(v), "on or off");
   } else if (key == "update") {
-    o.update = need(key, v, parse_update(v), "rebuild, refit or adaptive");
+    o.update = need(key, v, parse_update(v), "auto, rebuild, refit or adaptive");
   } else if (key == "adaptive_factor") {
     o.adaptive_factor = parse_float(key, v, 1.0f, 100.0f);
   } else {

@@ -15,6 +15,8 @@
 #include <string>
 #include <vector>
 
+#include "backends/auto_update_policy.h"
+#include "backends/busy_clock.h"
 #include "backends/mesh_record.h"
 #include "backends/update_policy.h"
 #include "bvh/builders/builders.h"
@@ -46,7 +48,9 @@ class BvhIntersector final : public Intersector {
   }
 
  public:
-  explicit BvhIntersector(const BackendOptions& options) : options_(options) {
+  explicit BvhIntersector(const BackendOptions& options)
+      : options_(options),
+        auto_policy_(options.build.builder != BuilderKind::kMorton, options.adaptive_factor) {
     info_.name = "bvh/" + std::string(to_string(options.build.builder)) + "/" +
                  std::string(to_string(options.triangle_test));
     if (options.layout != BvhLayout::kBvh8)
@@ -59,7 +63,9 @@ class BvhIntersector final : public Intersector {
   // (the embree backend makes such a scene RTC_SCENE_FLAG_DYNAMIC).
   void build(const Scene& scene) override {
     if (scene.animation.animated() && !retain_buffers_) retain_buffers_.emplace();
-    info_.build_ms = rebuild(scene, StatsPass::kAfter);
+    info_.build_ms = rebuild(scene, StatsPass::kAfter, options_.build);
+    auto_policy_.rebuilt(configured_choice(), info_.build_ms, rebuild_sah_cost_);
+    time_queries_ = options_.update == UpdateStrategy::kAuto && retain_buffers_;
   }
 
   // The caller moved vertices (same meshes, triangle indices and counts).
@@ -80,10 +86,12 @@ class BvhIntersector final : public Intersector {
   void update(const Scene& scene) override {
     const auto start = Clock::now();
     if (!retain_buffers_) retain_buffers_.emplace();
-    bool rebuilt = true;
-    double ms = 0.0;
+    const bool automatic = options_.update == UpdateStrategy::kAuto;
+    const BusyClock::Busy queries = busy_.take();  // since the last update (auto only)
+    time_queries_ = automatic;
+    AutoUpdatePolicy::Choice choice = AutoUpdatePolicy::Choice::kRefit;
     if (must_rebuild(options_.update, built_over_.fits(scene))) {
-      ms = ms_since(start) + rebuild(scene, update_stats());
+      choice = automatic ? auto_policy_.forced_rebuild() : configured_choice();
     } else {
       // Only the array this backend's triangle test reads is re-gathered.
       const RefitTriangles write = test_arrays();
@@ -92,21 +100,32 @@ class BvhIntersector final : public Intersector {
         refit_index_ready_ = true;
         return refit(bvh, scene, write, &refit_index_);
       });
-      if (rebuild_after_refit(options_, r.valid, r.sah_cost, rebuild_sah_cost_)) {
-        ms = ms_since(start) + rebuild(scene, update_stats());
-      } else {
-        info_.stats.sah_cost = r.sah_cost;
-        rebuilt = false;
-        ms = ms_since(start);
-      }
+      if (!r.valid)
+        choice = automatic ? auto_policy_.forced_rebuild() : configured_choice();
+      else if (automatic)
+        choice =
+            auto_policy_.after_refit(r.sah_cost, {queries.ms, queries.items, info_.stats.sah_cost});
+      else if (rebuild_after_refit(options_, r.valid, r.sah_cost, rebuild_sah_cost_))
+        choice = configured_choice();
+      if (choice == AutoUpdatePolicy::Choice::kRefit) info_.stats.sah_cost = r.sah_cost;
     }
-    info_.rebuilt = rebuilt;
+    double ms = ms_since(start);
+    if (choice != AutoUpdatePolicy::Choice::kRefit) {
+      BuildOptions build = options_.build;
+      if (choice == AutoUpdatePolicy::Choice::kMorton) build.builder = BuilderKind::kMorton;
+      const double rebuild_ms = rebuild(scene, update_stats(), build);
+      ms += rebuild_ms;
+      if (automatic) auto_policy_.rebuilt(choice, rebuild_ms, rebuild_sah_cost_);
+    }
+    info_.rebuilt = choice != AutoUpdatePolicy::Choice::kRefit;
+    if (!info_.rebuilt) info_.rebuilt_with.clear();
     info_.build_ms = ms;
   }
 
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override {
     if (hits.size() < rays.size())
       throw std::invalid_argument("intersect: fewer hit slots than rays");
+    const BusyClock::Scope timed(query_clock(), rays.size());
     with_layout(*this, [&](const auto& bvh) {
       intersect_batch(bvh, options_.triangle_test, rays, hits.data());
     });
@@ -115,6 +134,7 @@ class BvhIntersector final : public Intersector {
   void occluded(std::span<const Ray> rays, std::span<uint8_t> result) const override {
     if (result.size() < rays.size())
       throw std::invalid_argument("occluded: fewer result slots than rays");
+    const BusyClock::Scope timed(query_clock(), rays.size());
     with_layout(*this, [&](const auto& bvh) {
       occluded_batch(bvh, options_.triangle_test, rays, result.data());
     });
@@ -122,6 +142,7 @@ class BvhIntersector final : public Intersector {
   void count(std::span<const Ray> rays, std::span<uint32_t> counts) const override {
     if (counts.size() < rays.size())
       throw std::invalid_argument("count: fewer result slots than rays");
+    const BusyClock::Scope timed(query_clock(), rays.size());
     with_layout(*this, [&](const auto& bvh) {
       count_batch(bvh, options_.triangle_test, rays, counts.data());
     });
@@ -129,6 +150,7 @@ class BvhIntersector final : public Intersector {
 
   void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray,
                      HitLists& out) const override {
+    const BusyClock::Scope timed(query_clock(), rays.size());
     with_layout(*this, [&](const auto& bvh) {
       all_batch(bvh, options_.triangle_test, rays, max_per_ray, out);
     });
@@ -140,6 +162,7 @@ class BvhIntersector final : public Intersector {
     if (out.size() < points.size())
       throw std::invalid_argument("locate: fewer result slots than points");
     require_vertices("inside");
+    const BusyClock::Scope timed(query_clock(), points.size());
     with_layout(*this, [&](const auto& bvh) { locate_batch(bvh, points, out.data()); });
   }
 
@@ -148,6 +171,7 @@ class BvhIntersector final : public Intersector {
     if (out.size() < points.size())
       throw std::invalid_argument("closest: fewer result slots than points");
     require_vertices("closest");
+    const BusyClock::Scope timed(query_clock(), points.size());
     with_layout(*this,
                 [&](const auto& bvh) { closest_batch(bvh, points, max_distance, out.data()); });
   }
@@ -167,10 +191,10 @@ class BvhIntersector final : public Intersector {
   // Full build; returns its ms: prim info + build + flatten + what update()
   // needs later (layout record, the new tree's SAH cost, and the refit index
   // when animated).
-  double rebuild(const Scene& scene, StatsPass stats_pass) {
+  double rebuild(const Scene& scene, StatsPass stats_pass, const BuildOptions& build) {
     const auto start = Clock::now();
     const PrimInfo prims = make_prim_info(scene);
-    const BuildTree tree = build_tree(prims, options_.build);
+    const BuildTree tree = build_tree(prims, build);
     // The last build's triangle arrays (and refit index) are rewritten in
     // place: over the same triangles they have the sizes already, so a
     // rebuild of a deforming mesh faults in no fresh pages for them.
@@ -224,8 +248,17 @@ class BvhIntersector final : public Intersector {
     }
     info_.stats = stats;
     info_.rebuilt = true;
+    info_.rebuilt_with = to_string(build.builder);
     return ms;
   }
+
+  // The rebuild the configured builder makes, in the auto policy's terms.
+  AutoUpdatePolicy::Choice configured_choice() const {
+    return options_.build.builder == BuilderKind::kMorton ? AutoUpdatePolicy::Choice::kMorton
+                                                          : AutoUpdatePolicy::Choice::kSah;
+  }
+  // Queries are timed for the auto policy once the backend is animated.
+  BusyClock* query_clock() const { return time_queries_ ? &busy_ : nullptr; }
 
   void require_vertices(const char* query) const {
     if (options_.triangle_test == TriangleTestKind::kMoller)
@@ -265,6 +298,9 @@ class BvhIntersector final : public Intersector {
   bool refit_index_ready_ = false;
   double rebuild_sah_cost_ = 0.0;                      // sah_cost right after the last rebuild
   std::optional<HugeBufferRetention> retain_buffers_;  // held once animated
+  AutoUpdatePolicy auto_policy_;
+  bool time_queries_ = false;
+  mutable BusyClock busy_;  // query time since the last update, when time_queries_
 };
 
 }  // namespace

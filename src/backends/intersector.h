@@ -24,7 +24,10 @@
 
 namespace hprt {
 
-enum class UpdateStrategy { kRebuild, kRefit, kAdaptive };
+// kAuto (the default) chooses per frame between refit, Morton rebuild and
+// SAH rebuild from measured times (backends/auto_update_policy.h); kAdaptive
+// rebuilds with the configured builder past adaptive_factor (update_policy.h).
+enum class UpdateStrategy { kRebuild, kRefit, kAdaptive, kAuto };
 
 struct BackendOptions {
   std::string backend = "bvh";  // bvh | embree | plugin:PATH[:OPTIONS] (backend_spec.h)
@@ -37,7 +40,7 @@ struct BackendOptions {
   std::string embree_quality = "medium";  // low | medium | high | refit
   bool embree_robust = false;
   // deformable scenes
-  UpdateStrategy update = UpdateStrategy::kAdaptive;
+  UpdateStrategy update = UpdateStrategy::kAuto;
   float adaptive_factor = 1.3f;  // rebuild when SAH cost exceeds factor x cost at last rebuild
   // An update()'s rebuild reports sah_cost, nodes and triangle counts; the
   // rest of TreeStats (leaves, depth, leaf sizes, tree_hash: a pass over the
@@ -52,6 +55,9 @@ struct BuildInfo {
   bool has_tree_stats = false;
   TreeStats stats;
   bool rebuilt = true;  // update(): whether the last update rebuilt (vs refit)
+  // The builder of this build(), or of update()'s rebuild ("parallel",
+  // "morton", ...); empty after a refit or where the backend does not say.
+  std::string rebuilt_with;
   // Plugins: answers so far that failed the checks of core/hit_check.h.
   uint64_t malformed_answers = 0;
 };

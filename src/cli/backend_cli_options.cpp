@@ -3,6 +3,7 @@
 #include <cstdlib>
 #include <string>
 
+#include "backends/backend_option_parse.h"
 #include "backends/backend_spec.h"
 #include "bvh/input/build_options.h"
 #include "cli/commands.h"
@@ -85,7 +86,7 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
   cmd.add_option("--update", o.update, "deformable scenes: per-frame BVH update")
-      ->check(CLI::IsMember({"rebuild", "refit", "adaptive"}))
+      ->check(CLI::IsMember({"auto", "rebuild", "refit", "adaptive"}))
       ->capture_default_str();
   cmd.add_option("--adaptive-factor", o.options.adaptive_factor,
                  "adaptive: rebuild when SAH cost exceeds this factor x cost at last rebuild")
@@ -102,9 +103,7 @@ BackendOptions finish_backend_options(const BackendCliOptions& o) {
   r.layout = *parse_layout(o.layout);
   r.embree_quality = o.quality;
   r.embree_robust = o.robust == "on";
-  r.update = o.update == "rebuild" ? UpdateStrategy::kRebuild
-             : o.update == "refit" ? UpdateStrategy::kRefit
-                                   : UpdateStrategy::kAdaptive;
+  set_backend_option(r, "update", o.update);
   return r;
 }
 

@@ -36,7 +36,7 @@ struct BackendCliOptions {
   std::string layout = "bvh8";
   std::string quality = "medium";
   std::string robust = "off";
-  std::string update = "adaptive";
+  std::string update = "auto";
   BackendOptions options;
 };
 void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend = true);

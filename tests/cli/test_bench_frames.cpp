@@ -1,7 +1,8 @@
 // `hprt bench frames` end to end in --quick mode on a tiny generated mesh:
 // every column in the CSV and the JSON, a row per case (wave, explode) and
-// configuration including both Embree dynamic rows, well-formed values (no
-// timing asserted), and a bad option exits 2.
+// configuration including both Embree dynamic rows, the default-options row
+// marked (`"default": true`, one per case) with its per-frame update letters,
+// well-formed values (no timing asserted), and a bad option exits 2.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -26,6 +27,7 @@ using test::split_csv;
 
 const std::vector<std::string> kColumns = {"case",
                                            "config",
+                                           "default",
                                            "triangles",
                                            "threads",
                                            "frames",
@@ -43,13 +45,15 @@ const std::vector<std::string> kColumns = {"case",
                                            "frame_mean_ms",
                                            "deform_ms",
                                            "rebuilds",
+                                           "updates",
                                            "sah_cost_first",
                                            "sah_cost_last",
                                            "mrays_per_s",
                                            "update_vs_embree_refit",
                                            "frame_vs_best_embree",
                                            "frame_vs_embree_matched"};
-const std::vector<std::string> kConfigs = {"bvh rebuild",
+const std::vector<std::string> kConfigs = {"bvh auto (default)",
+                                           "bvh rebuild",
                                            "bvh refit",
                                            "bvh adaptive",
                                            "bvh adaptive mt",
@@ -123,7 +127,26 @@ TEST_F(BenchFrames, QuickRunWritesEveryColumnAndEmbreeRows) {
     }
     if (row["config"] == "bvh refit" || row["config"].rfind("embree dynamic refit", 0) == 0) {
       EXPECT_EQ(row["rebuilds"], "0");
+      EXPECT_EQ(row["updates"], "rr");
     }
+    if (row["config"] == "bvh rebuild") {
+      EXPECT_EQ(row["updates"], "ss");
+    }
+    if (row["config"] == "bvh rebuild morton") {
+      EXPECT_EQ(row["updates"], "mm");
+    }
+    if (row["config"].rfind("embree dynamic low", 0) == 0) {
+      EXPECT_EQ(row["updates"], "bb");
+    }
+    // One letter per frame; as many rebuild letters as rebuilds.
+    ASSERT_EQ(row["updates"].size(), 2u) << line;
+    int rebuild_letters = 0;
+    for (char u : row["updates"]) {
+      EXPECT_NE(std::string("rmsb").find(u), std::string::npos) << line;
+      rebuild_letters += u != 'r';
+    }
+    EXPECT_EQ(std::to_string(rebuild_letters), row["rebuilds"]) << line;
+    EXPECT_EQ(row["default"], row["config"] == "bvh auto (default)" ? "true" : "false") << line;
     // Matched numerics: against the fastest of a subset of the Embree rows,
     // so never above the ratio against the fastest of all of them.
     EXPECT_LE(std::stod(row["frame_vs_embree_matched"]), std::stod(row["frame_vs_best_embree"]));
@@ -131,7 +154,7 @@ TEST_F(BenchFrames, QuickRunWritesEveryColumnAndEmbreeRows) {
       EXPECT_EQ(std::stod(row["update_vs_embree_refit"]), 1.0);
     }
   }
-  EXPECT_EQ(rows, 22);
+  EXPECT_EQ(rows, 24);
   for (const char* c : {"wave", "explode"}) {
     for (const std::string& k : kConfigs)
       EXPECT_TRUE(seen.count(std::string(c) + "/" + k)) << c << "/" << k;
@@ -141,10 +164,14 @@ TEST_F(BenchFrames, QuickRunWritesEveryColumnAndEmbreeRows) {
   const nlohmann::json j = nlohmann::json::parse(slurp(out / "frames.json"));
   const nlohmann::json& t = j.at("tables").at("frames");
   EXPECT_EQ(t.at("columns").get<std::vector<std::string>>(), kColumns);
-  ASSERT_EQ(t.at("rows").size(), 22u);
+  ASSERT_EQ(t.at("rows").size(), 24u);
+  int defaults = 0;
   for (const auto& r : t.at("rows")) {
     for (const std::string& c : kColumns) EXPECT_TRUE(r.contains(c)) << c;
+    ASSERT_TRUE(r.at("default").is_boolean());
+    defaults += r.at("default").get<bool>();
   }
+  EXPECT_EQ(defaults, 2);  // one per case
   EXPECT_EQ(j.at("params").at("threads"), 2);
   EXPECT_EQ(j.at("params").at("triangles"), 2000);
 }

@@ -125,6 +125,8 @@ TEST_F(CliFrames, JsonLinePerFrameWithAllFields) {
     if (k == 1) {
       EXPECT_TRUE(j["rebuilt"].get<bool>());  // the first frame is a build
     }
+    // The builder of the frame's build or rebuild; empty after a refit.
+    EXPECT_EQ(j["rebuilt_with"], j["rebuilt"].get<bool>() ? "parallel" : "") << line;
     char name[32];
     std::snprintf(name, sizeof name, "f_%03d.png", k);
     EXPECT_EQ(j["output"], path(name));
@@ -133,6 +135,7 @@ TEST_F(CliFrames, JsonLinePerFrameWithAllFields) {
   }
   EXPECT_EQ(k, 5);
   EXPECT_NE(r.err.find("4 frames"), std::string::npos) << r.err;  // the summary
+  EXPECT_NE(r.err.find("(rebuilt, parallel)"), std::string::npos) << r.err;
   EXPECT_NE(r.err.find("median"), std::string::npos) << r.err;
 
   const CliResult e = render("--backend embree --frames 0:2 -o " + path("e_%d.png") + " --json");
@@ -140,6 +143,11 @@ TEST_F(CliFrames, JsonLinePerFrameWithAllFields) {
   const auto j = nlohmann::json::parse(e.out.substr(0, e.out.find('\n')));
   EXPECT_TRUE(j["sah_cost"].is_null());
   EXPECT_EQ(j["strategy"], "embree-medium");
+
+  // The default update strategy is auto.
+  const CliResult d = render("--frames 0:2 -o " + path("d_%d.png") + " --json");
+  ASSERT_EQ(d.code, 0) << d.err;
+  EXPECT_EQ(nlohmann::json::parse(d.out.substr(0, d.out.find('\n')))["strategy"], "auto");
 }
 
 TEST_F(CliFrames, StillRenderOfAnAnimatedSceneIsFrameZero) {

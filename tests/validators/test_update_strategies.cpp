@@ -1,8 +1,10 @@
-// Update strategies of the bvh backend (rebuild, refit, adaptive) over every
+// Update strategies of the bvh backend (rebuild, refit, adaptive, auto) over every
 // deformer: after each frame the bvh answers agree with a fresh Embree build
 // on primary, shadow and random rays (the exact arbiter settles disputes;
 // bvh is never wrong); adaptive rebuilds during explode and not during a
-// gentle wave; a change of the valid-triangle set forces a rebuild; Embree's
+// gentle wave; auto rebuilds an exploding mesh that is queried heavily, with
+// the Morton builder, and only refits a mesh that is not queried; a change
+// of the valid-triangle set forces a rebuild; Embree's
 // dynamic update (refit and low quality) answers as a fresh Embree build.
 #include <gtest/gtest.h>
 
@@ -75,9 +77,10 @@ std::unique_ptr<Intersector> embree_backend(const std::string& quality) {
 }
 
 const char* name(UpdateStrategy u) {
-  return u == UpdateStrategy::kRebuild ? "rebuild"
-         : u == UpdateStrategy::kRefit ? "refit"
-                                       : "adaptive";
+  return u == UpdateStrategy::kRebuild    ? "rebuild"
+         : u == UpdateStrategy::kRefit    ? "refit"
+         : u == UpdateStrategy::kAdaptive ? "adaptive"
+                                          : "auto";
 }
 
 struct DeformRun {
@@ -92,7 +95,7 @@ DeformRun check_deformer(const std::string& kind) {
     const SceneAnimator animator(scene);
     animator.apply(0, scene);
     const UpdateStrategy strategies[] = {UpdateStrategy::kRebuild, UpdateStrategy::kRefit,
-                                         UpdateStrategy::kAdaptive};
+                                         UpdateStrategy::kAdaptive, UpdateStrategy::kAuto};
     std::vector<std::unique_ptr<Intersector>> bvhs;
     for (UpdateStrategy u : strategies) {
       bvhs.push_back(bvh_backend(u));
@@ -109,6 +112,7 @@ DeformRun check_deformer(const std::string& kind) {
     BackendOptions morton;
     morton.threads = kThreads;
     morton.build.builder = BuilderKind::kMorton;
+    morton.update = UpdateStrategy::kAdaptive;
     auto bvh_morton = make_intersector("bvh", morton);
     bvh_morton->build(scene);
     auto embree_refit = embree_backend("refit"), embree_low = embree_backend("low");
@@ -127,10 +131,11 @@ DeformRun check_deformer(const std::string& kind) {
       for (size_t s = 0; s < bvhs.size(); ++s) {
         bvhs[s]->update(scene);
         const BuildInfo info = bvhs[s]->info();
-        if (strategies[s] == UpdateStrategy::kAdaptive)
+        if (strategies[s] == UpdateStrategy::kAdaptive) {
           run.adaptive_rebuilt.push_back(info.rebuilt);
-        else
+        } else if (strategies[s] != UpdateStrategy::kAuto) {  // auto: from measured times
           EXPECT_EQ(info.rebuilt, strategies[s] == UpdateStrategy::kRebuild);
+        }
         EXPECT_GT(info.stats.sah_cost, 1.0);
         const RayDiffResult d = run_ray_diff(scene, rays, *bvhs[s], *fresh, false);
         EXPECT_EQ(d.bvh_wrong(), 0u)
@@ -211,7 +216,8 @@ TEST(UpdateStrategies, AdaptiveDecisionFollowsTheFactor) {
 TEST(UpdateStrategies, ValidTriangleSetChangeForcesARebuild) {
   Scene scene = deformed_sphere(spec("wave"));
   run_with_threads(kThreads, [&] {
-    for (UpdateStrategy u : {UpdateStrategy::kRefit, UpdateStrategy::kAdaptive}) {
+    for (UpdateStrategy u :
+         {UpdateStrategy::kRefit, UpdateStrategy::kAdaptive, UpdateStrategy::kAuto}) {
       Scene s = scene;
       auto bvh = bvh_backend(u);
       bvh->build(s);
@@ -236,6 +242,75 @@ TEST(UpdateStrategies, ValidTriangleSetChangeForcesARebuild) {
       EXPECT_EQ(run_ray_diff(s, rays, *bvh, *fresh, false).bvh_wrong(), 0u);
     }
   });
+}
+
+}  // namespace
+}  // namespace hprt
+
+namespace hprt {
+namespace {
+
+// Auto with a heavy query load per frame (many random rays on a small
+// exploding mesh: far more query time than a rebuild) rebuilds, and says
+// with which builder; its answers stay right. (Which builder it picks is
+// auto_update_policy's, tested on fixed figures in test_auto_update_policy.)
+TEST(UpdateStrategies, AutoRebuildsAHeavilyQueriedExplosion) {
+  Scene scene = deformed_sphere(spec("explode"));
+  run_with_threads(kThreads, [&] {
+    const SceneAnimator animator(scene);
+    animator.apply(0, scene);
+    auto bvh = bvh_backend(UpdateStrategy::kAuto);
+    bvh->build(scene);
+    EXPECT_EQ(bvh->info().rebuilt_with, "parallel");
+    const std::vector<Ray> load = make_rays(scene, RayKind::kRandom, 200'000, 7);
+    std::vector<Hit> hits(load.size());
+    int rebuilds = 0;
+    for (int frame = 1; frame < kFrames; ++frame) {
+      for (int pass = 0; pass < 4; ++pass) bvh->intersect(load, hits);
+      animator.apply(frame, scene);
+      bvh->update(scene);
+      const BuildInfo info = bvh->info();
+      if (info.rebuilt) {
+        EXPECT_TRUE(info.rebuilt_with == "morton" || info.rebuilt_with == "parallel")
+            << "frame " << frame << ": " << info.rebuilt_with;
+        ++rebuilds;
+      } else {
+        EXPECT_EQ(info.rebuilt_with, "") << "frame " << frame;
+      }
+      auto fresh = embree_backend("medium");
+      fresh->build(scene);
+      const std::vector<Ray> rays = make_rays(scene, RayKind::kPrimary, kRays, 11 + frame);
+      EXPECT_EQ(run_ray_diff(scene, rays, *bvh, *fresh, false).bvh_wrong(), 0u) << frame;
+    }
+    EXPECT_GE(rebuilds, 2);
+  });
+}
+
+// Auto before any query time is known follows the adaptive rule: a gentle
+// wave only refits, an explosion rebuilds, with the cheaper (Morton) build.
+TEST(UpdateStrategies, AutoWithoutQueriesFollowsTheAdaptiveRule) {
+  for (const char* kind : {"wave", "explode"}) {
+    Scene scene = deformed_sphere(spec(kind));
+    run_with_threads(kThreads, [&] {
+      const SceneAnimator animator(scene);
+      animator.apply(0, scene);
+      auto bvh = bvh_backend(UpdateStrategy::kAuto);
+      bvh->build(scene);
+      int rebuilds = 0;
+      for (int frame = 1; frame < kFrames; ++frame) {
+        animator.apply(frame, scene);
+        bvh->update(scene);
+        if (bvh->info().rebuilt) {
+          ++rebuilds;
+          EXPECT_EQ(bvh->info().rebuilt_with, "morton") << kind << " frame " << frame;
+        }
+      }
+      if (std::string(kind) == "wave")
+        EXPECT_EQ(rebuilds, 0);
+      else
+        EXPECT_GE(rebuilds, 1);
+    });
+  }
 }
 
 }  // namespace

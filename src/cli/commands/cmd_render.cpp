@@ -182,9 +182,11 @@ void run_frames(const RenderArgs& a) {
       const BuildInfo& info = f.info;
       config = info.name;
       times.push_back({f.animate_ms, f.update_ms, f.render_ms, info.rebuilt});
+      const std::string update = !info.rebuilt               ? "refit"
+                                 : info.rebuilt_with.empty() ? "rebuilt"
+                                                             : "rebuilt, " + info.rebuilt_with;
       std::fprintf(stderr, "hprt render: frame %d: update %.2f ms (%s), render %.2f ms -> %s\n",
-                   f.frame, f.update_ms, info.rebuilt ? "rebuilt" : "refit", f.render_ms,
-                   frame.output.c_str());
+                   f.frame, f.update_ms, update.c_str(), f.render_ms, frame.output.c_str());
       if (a.json) {
         nlohmann::json j;
         j["frame"] = f.frame;
@@ -193,6 +195,7 @@ void run_frames(const RenderArgs& a) {
         j["sah_cost"] =
             info.has_tree_stats ? nlohmann::json(info.stats.sah_cost) : nlohmann::json();
         j["rebuilt"] = info.rebuilt;
+        j["rebuilt_with"] = info.rebuilt_with;
         j["render_ms"] = f.render_ms;
         j["mrays_per_s"] = mrays_per_s(frame);
         j["output"] = frame.output;
