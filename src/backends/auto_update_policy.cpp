@@ -7,7 +7,9 @@ namespace hprt {
 
 void AutoUpdatePolicy::rebuilt(Choice which, double ms, double sah_cost) {
   if (which == Choice::kRefit) return;
-  of(which).ms = ms;
+  Builder& b = of(which);
+  const double estimate = build_ms(which);  // from the other builder; 0: none
+  b.ms = b.ms < 0.0 && estimate > 0.0 ? std::min(ms, estimate) : ms;
   last_ = which;
   morton_.lost_ms = sah_.lost_ms = 0.0;
   frames_since_rebuild_ = 0;

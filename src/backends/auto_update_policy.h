@@ -21,7 +21,9 @@
 // Estimates where nothing is measured: the builder that did not make the
 // last tree is taken to trace kMortonCostRatio slower (Morton) or faster
 // (SAH) per ray, and one never run to build in kMortonBuildShare (Morton)
-// or 1 / kMortonBuildShare (SAH) of the other's time; when the first frame
+// or 1 / kMortonBuildShare (SAH) of the other's time. A builder's first
+// rebuild also faults in its buffers, which later rebuilds reuse, so its
+// first time counts at most that estimate. When the first frame
 // after a rebuild ran no queries, M is scaled from a later frame by the SAH
 // costs of the two trees. Frames without queries lose nothing, so they only
 // refit; until any query has been timed the rule is `adaptive`'s (rebuild

@@ -41,7 +41,9 @@ struct BackendOptions {
   bool embree_robust = false;
   // deformable scenes
   UpdateStrategy update = UpdateStrategy::kAuto;
-  float adaptive_factor = 1.3f;  // rebuild when SAH cost exceeds factor x cost at last rebuild
+  // adaptive (and auto until a query was timed): rebuild when the refitted
+  // SAH cost exceeds this factor x the cost at the last rebuild
+  float adaptive_factor = 1.3f;
   // An update()'s rebuild reports sah_cost, nodes and triangle counts; the
   // rest of TreeStats (leaves, depth, leaf sizes, tree_hash: a pass over the
   // whole tree that only reports) only with this set. build() reports all.

@@ -3,7 +3,8 @@
 // cannot stand (the mesh layout changed, a triangle left out at the last
 // build became valid, or the refit found a triangle that became invalid);
 // `adaptive` also when the refitted tree's SAH cost has grown past
-// adaptive_factor times its cost right after the last rebuild.
+// adaptive_factor times its cost right after the last rebuild. `auto` is
+// `refit` here; after the refit, auto_update_policy.h decides.
 #pragma once
 
 #include "backends/intersector.h"

@@ -85,11 +85,14 @@ void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend)
   cmd.add_option("--robust", o.robust, "embree: RTC_SCENE_FLAG_ROBUST")
       ->check(CLI::IsMember({"on", "off"}))
       ->capture_default_str();
-  cmd.add_option("--update", o.update, "deformable scenes: per-frame BVH update")
+  cmd.add_option("--update", o.update,
+                 "deformable scenes: per-frame BVH update (auto: refit, or a Morton or SAH "
+                 "rebuild chosen from measured build and query times)")
       ->check(CLI::IsMember({"auto", "rebuild", "refit", "adaptive"}))
       ->capture_default_str();
   cmd.add_option("--adaptive-factor", o.options.adaptive_factor,
-                 "adaptive: rebuild when SAH cost exceeds this factor x cost at last rebuild")
+                 "adaptive (and auto before any query was timed): rebuild when SAH cost exceeds "
+                 "this factor x cost at last rebuild")
       ->check(kFinite)
       ->check(CLI::Range(1.0f, 100.0f))
       ->capture_default_str();

@@ -18,8 +18,9 @@ TEST(UpdatePolicy, RebuildAlwaysRebuilds) {
   EXPECT_TRUE(must_rebuild(UpdateStrategy::kRebuild, false));
 }
 
-TEST(UpdatePolicy, RefitAndAdaptiveRefitWhileTheTreeFits) {
-  for (UpdateStrategy s : {UpdateStrategy::kRefit, UpdateStrategy::kAdaptive}) {
+TEST(UpdatePolicy, RefitAdaptiveAndAutoRefitWhileTheTreeFits) {
+  for (UpdateStrategy s :
+       {UpdateStrategy::kRefit, UpdateStrategy::kAdaptive, UpdateStrategy::kAuto}) {
     EXPECT_FALSE(must_rebuild(s, true));
     EXPECT_TRUE(must_rebuild(s, false));
   }
@@ -33,9 +34,11 @@ TEST(UpdatePolicy, AdaptiveRebuildsPastTheFactor) {
   EXPECT_FALSE(rebuild_after_refit(o, true, 150.0, 100.0));  // at the factor: keep
   EXPECT_TRUE(rebuild_after_refit(o, true, 150.5, 100.0));
   EXPECT_TRUE(rebuild_after_refit(o, false, 90.0, 100.0));  // the refit dropped a triangle
-  o.update = UpdateStrategy::kRefit;
-  EXPECT_FALSE(rebuild_after_refit(o, true, 1e9, 100.0));  // refit keeps any cost
-  EXPECT_TRUE(rebuild_after_refit(o, false, 90.0, 100.0));
+  for (UpdateStrategy s : {UpdateStrategy::kRefit, UpdateStrategy::kAuto}) {
+    o.update = s;  // refit keeps any cost; auto decides elsewhere
+    EXPECT_FALSE(rebuild_after_refit(o, true, 1e9, 100.0));
+    EXPECT_TRUE(rebuild_after_refit(o, false, 90.0, 100.0));
+  }
 }
 
 Scene two_meshes() {
