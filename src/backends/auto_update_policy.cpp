@@ -14,7 +14,6 @@ void AutoUpdatePolicy::rebuilt(Choice which, double ms, double sah_cost) {
   morton_.lost_ms = sah_.lost_ms = 0.0;
   frames_since_rebuild_ = 0;
   cost_after_rebuild_ = sah_cost;
-  fresh_ms_per_ray_ = -1.0;
 }
 
 double AutoUpdatePolicy::build_ms(Choice c) const {
@@ -25,14 +24,14 @@ double AutoUpdatePolicy::build_ms(Choice c) const {
   return c == Choice::kMorton ? other.ms * kMortonBuildShare : other.ms / kMortonBuildShare;
 }
 
-double AutoUpdatePolicy::fresh_ms_per_ray(Choice c) const {
-  if (c == last_) return fresh_ms_per_ray_;
-  return c == Choice::kMorton ? fresh_ms_per_ray_ * kMortonCostRatio
-                              : fresh_ms_per_ray_ / kMortonCostRatio;
+double AutoUpdatePolicy::fresh_cost(Choice c) const {
+  if (c == last_) return cost_after_rebuild_;
+  return c == Choice::kMorton ? cost_after_rebuild_ * kMortonCostRatio
+                              : cost_after_rebuild_ / kMortonCostRatio;
 }
 
 double AutoUpdatePolicy::period_cost(Choice c) const {
-  return rays_ * std::max(0.0, fresh_ms_per_ray(c)) + std::sqrt(2.0 * build_ms(c) * growth_);
+  return ms_per_cost_ * fresh_cost(c) + std::sqrt(2.0 * build_ms(c) * growth_);
 }
 
 AutoUpdatePolicy::Choice AutoUpdatePolicy::cheaper() const {
@@ -44,31 +43,21 @@ AutoUpdatePolicy::Choice AutoUpdatePolicy::cheaper() const {
 
 AutoUpdatePolicy::Choice AutoUpdatePolicy::after_refit(double refit_cost, const Queries& q) {
   ++frames_since_rebuild_;
-  if (!(q.ms > 0.0 && q.rays > 0)) {  // nothing queried: nothing lost this frame
+  const double cost = q.sah_cost > 0.0 ? q.sah_cost : refit_cost;  // of the tree queried
+  if (!(q.ms > 0.0 && cost > 0.0)) {                               // nothing queried: nothing lost
     if (timed_) return Choice::kRefit;
     return refit_cost > prior_factor_ * cost_after_rebuild_ ? cheaper() : Choice::kRefit;
   }
   timed_ = true;
-  rays_ = double(q.rays);
-  const double ms_per_ray = q.ms / rays_;
-  if (fresh_ms_per_ray_ < 0.0) {
-    // The first timed frame since the rebuild: its tree was the fresh one,
-    // or (a frame without queries came between) a refit of it.
-    fresh_ms_per_ray_ = frames_since_rebuild_ == 1 || !(q.sah_cost > 0.0)
-                            ? ms_per_ray
-                            : ms_per_ray * cost_after_rebuild_ / q.sah_cost;
-  }
-  // The coming frame's time per ray on the refitted tree: this frame's,
-  // scaled by the change of SAH cost the refit just made.
-  const double next_ms_per_ray =
-      q.sah_cost > 0.0 ? ms_per_ray * refit_cost / q.sah_cost : ms_per_ray;
-  growth_ = std::max(0.0, rays_ * (next_ms_per_ray - fresh_ms_per_ray_)) / frames_since_rebuild_;
-  Choice best = cheaper();
-  double due = 0.0;  // time lost by the coming frame, if it keeps the refitted tree
+  ms_per_cost_ = q.ms / cost;
+  growth_ =
+      std::max(0.0, ms_per_cost_ * (refit_cost - cost_after_rebuild_)) / frames_since_rebuild_;
+  const Choice best = cheaper();
+  double due = 0.0;  // time lost by the coming frame too, if it keeps the refitted tree
   for (Choice c : {Choice::kMorton, Choice::kSah}) {
     Builder& b = of(c);
-    b.lost_ms = std::max(0.0, b.lost_ms + rays_ * (ms_per_ray - fresh_ms_per_ray(c)));
-    if (c == best) due = b.lost_ms + rays_ * (next_ms_per_ray - fresh_ms_per_ray(c));
+    b.lost_ms += std::max(0.0, ms_per_cost_ * (cost - fresh_cost(c)));
+    if (c == best) due = b.lost_ms + ms_per_cost_ * (refit_cost - fresh_cost(c));
   }
   return due > 0.0 && due >= build_ms(best) ? best : Choice::kRefit;
 }

@@ -87,7 +87,7 @@ class BvhIntersector final : public Intersector {
     const auto start = Clock::now();
     if (!retain_buffers_) retain_buffers_.emplace();
     const bool automatic = options_.update == UpdateStrategy::kAuto;
-    const BusyClock::Busy queries = busy_.take();  // since the last update (auto only)
+    const double query_ms = busy_.take_ms();  // since the last update (auto only)
     time_queries_ = automatic;
     AutoUpdatePolicy::Choice choice = AutoUpdatePolicy::Choice::kRefit;
     if (must_rebuild(options_.update, built_over_.fits(scene))) {
@@ -103,8 +103,7 @@ class BvhIntersector final : public Intersector {
       if (!r.valid)
         choice = automatic ? auto_policy_.forced_rebuild() : configured_choice();
       else if (automatic)
-        choice =
-            auto_policy_.after_refit(r.sah_cost, {queries.ms, queries.items, info_.stats.sah_cost});
+        choice = auto_policy_.after_refit(r.sah_cost, {query_ms, info_.stats.sah_cost});
       else if (rebuild_after_refit(options_, r.valid, r.sah_cost, rebuild_sah_cost_))
         choice = configured_choice();
       if (choice == AutoUpdatePolicy::Choice::kRefit) info_.stats.sah_cost = r.sah_cost;
@@ -125,7 +124,7 @@ class BvhIntersector final : public Intersector {
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const override {
     if (hits.size() < rays.size())
       throw std::invalid_argument("intersect: fewer hit slots than rays");
-    const BusyClock::Scope timed(query_clock(), rays.size());
+    const BusyClock::Scope timed(query_clock());
     with_layout(*this, [&](const auto& bvh) {
       intersect_batch(bvh, options_.triangle_test, rays, hits.data());
     });
@@ -134,7 +133,7 @@ class BvhIntersector final : public Intersector {
   void occluded(std::span<const Ray> rays, std::span<uint8_t> result) const override {
     if (result.size() < rays.size())
       throw std::invalid_argument("occluded: fewer result slots than rays");
-    const BusyClock::Scope timed(query_clock(), rays.size());
+    const BusyClock::Scope timed(query_clock());
     with_layout(*this, [&](const auto& bvh) {
       occluded_batch(bvh, options_.triangle_test, rays, result.data());
     });
@@ -142,7 +141,7 @@ class BvhIntersector final : public Intersector {
   void count(std::span<const Ray> rays, std::span<uint32_t> counts) const override {
     if (counts.size() < rays.size())
       throw std::invalid_argument("count: fewer result slots than rays");
-    const BusyClock::Scope timed(query_clock(), rays.size());
+    const BusyClock::Scope timed(query_clock());
     with_layout(*this, [&](const auto& bvh) {
       count_batch(bvh, options_.triangle_test, rays, counts.data());
     });
@@ -150,7 +149,7 @@ class BvhIntersector final : public Intersector {
 
   void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray,
                      HitLists& out) const override {
-    const BusyClock::Scope timed(query_clock(), rays.size());
+    const BusyClock::Scope timed(query_clock());
     with_layout(*this, [&](const auto& bvh) {
       all_batch(bvh, options_.triangle_test, rays, max_per_ray, out);
     });
@@ -162,7 +161,7 @@ class BvhIntersector final : public Intersector {
     if (out.size() < points.size())
       throw std::invalid_argument("locate: fewer result slots than points");
     require_vertices("inside");
-    const BusyClock::Scope timed(query_clock(), points.size());
+    const BusyClock::Scope timed(query_clock());
     with_layout(*this, [&](const auto& bvh) { locate_batch(bvh, points, out.data()); });
   }
 
@@ -171,7 +170,7 @@ class BvhIntersector final : public Intersector {
     if (out.size() < points.size())
       throw std::invalid_argument("closest: fewer result slots than points");
     require_vertices("closest");
-    const BusyClock::Scope timed(query_clock(), points.size());
+    const BusyClock::Scope timed(query_clock());
     with_layout(*this,
                 [&](const auto& bvh) { closest_batch(bvh, points, max_distance, out.data()); });
   }
