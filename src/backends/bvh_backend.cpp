@@ -210,16 +210,18 @@ class BvhIntersector final : public Intersector {
     bvh8_ = WideBvh<8>{};
     const auto make_layout = [&] {
       with_layout(*this, [&](auto& bvh) {
-        // The node pass beside the triangle pass (and the refit index).
+        // The node pass beside the triangle pass (and the refit index and
+        // the SAH cost, the layout's up to rounding: a wide node's collapsed
+        // binary nodes and split leaves count as in the build tree).
         tbb::parallel_invoke([&] { flatten_nodes_into(bvh, tree, prims); },
                              [&] {
                                gather_leaf_triangles(tree, prims, scene, test_arrays(), triangles);
                                if (retain_buffers_)
                                  make_refit_index(triangles, scene, refit_index_);
+                               rebuild_sah_cost_ = build_tree_sah_cost(tree);
                              });
         refit_index_ready_ = bool(retain_buffers_);
         bvh.triangles = std::move(triangles);
-        rebuild_sah_cost_ = sah_cost_of(bvh);  // = stats.sah_cost up to rounding
         info_.memory_bytes = bvh.memory_bytes();
       });
       built_over_.record(scene, prims);
@@ -277,11 +279,6 @@ class BvhIntersector final : public Intersector {
   template <int N>
   static void flatten_nodes_into(WideBvh<N>& out, const BuildTree& tree, const PrimInfo& prims) {
     out = flatten_wide_nodes<N>(tree, prims);
-  }
-  static double sah_cost_of(const Bvh2& bvh) { return bvh2_sah_cost(bvh); }
-  template <int N>
-  static double sah_cost_of(const WideBvh<N>& bvh) {
-    return wide_sah_cost(bvh);
   }
 
   BackendOptions options_;

@@ -112,6 +112,28 @@ TEST(TreeStats, SameFiguresForAnyThreadCount) {
   EXPECT_EQ(one.depth, deepest);
 }
 
+// build_tree_sah_cost: compute_tree_stats' sah_cost, bit for bit, whatever
+// the builder and the thread count (the backend takes it as the rebuilt
+// tree's cost); trees of many chunks, a hand tree, a single leaf, no tree.
+TEST(TreeStats, SahCostAloneIsTheStatsSahCost) {
+  const PrimInfo p = prims_of(random_soup(60000, 34));
+  for (const BuildTree& t : {build_binned(p, BuildOptions{}), build_morton(p, BuildOptions{})}) {
+    const uint64_t stats = std::bit_cast<uint64_t>(compute_tree_stats(t, p).sah_cost);
+    for (int threads : {1, 2, 7})
+      EXPECT_EQ(std::bit_cast<uint64_t>(
+                    run_with_threads(threads, [&] { return build_tree_sah_cost(t); })),
+                stats)
+          << threads;
+  }
+  HandTree h;
+  EXPECT_NEAR(build_tree_sah_cost(h.tree), 1.0 + 0.6 + 1.8 + 0.6 + 0.6, 1e-12);
+  BuildOptions o;
+  o.sah.traversal_cost = 100.0f;  // makes the root a leaf
+  const PrimInfo three = prims_of(random_soup(3, 32, 0.5f));
+  EXPECT_EQ(build_tree_sah_cost(build_binned(three, o)), 3.0);
+  EXPECT_EQ(build_tree_sah_cost(BuildTree{}), 0.0);
+}
+
 TEST(TreeStats, SingleLeafCostsItsTriangleCount) {
   const PrimInfo p = prims_of(random_soup(3, 32, 0.5f));
   BuildOptions o;

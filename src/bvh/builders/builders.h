@@ -20,5 +20,7 @@ BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
 
 // Statistics and the 64-bit tree hash of docs/ARCHITECTURE.md (tree_stats.cpp).
 TreeStats compute_tree_stats(const BuildTree& tree, const PrimInfo& prims);
+// Its sah_cost alone (the same bits), from the nodes only.
+double build_tree_sah_cost(const BuildTree& tree);
 
 }  // namespace hprt

@@ -1,6 +1,7 @@
 // compute_tree_stats: counts, depth (root = 1), leaf sizes, the normalised SAH
 // cost of docs/ARCHITECTURE.md (inner 1, leaf = its triangle count, each times
-// SA(node)/SA(root), summed in double) and the 64-bit tree hash.
+// SA(node)/SA(root), summed in double; build_tree_sah_cost alone) and the
+// 64-bit tree hash.
 //
 // tree_hash: every node and every prim_order entry hashed on its own, with
 // its index, and the hashes summed (mod 2^64), so it runs in parallel and
@@ -46,6 +47,17 @@ uint64_t node_hash(const BuildNode& n, size_t i) {
   return splitmix64_mix(h ^ n.count);
 }
 
+// A root of zero area (cannot happen with valid triangles unless it
+// underflows) weighs every node 1.
+double root_area_of(const BuildTree& tree) {
+  return tree.nodes.empty() ? 0.0 : tree.nodes[0].bounds.half_area();
+}
+double sah_term(const BuildNode& nd, double root_area) {
+  const double w = root_area > 0.0 ? nd.bounds.half_area() / root_area : 1.0;
+  return nd.is_leaf() ? w * nd.count : w;
+}
+size_t chunks_of(size_t n) { return (n + kChunk - 1) / kChunk; }
+
 struct ChunkStats {
   size_t leaves = 0, leaf_prims = 0;
   uint32_t max_leaf = 0;
@@ -61,24 +73,19 @@ TreeStats compute_tree_stats(const BuildTree& tree, const PrimInfo& prims) {
   s.invalid_triangles = prims.invalid;
   const size_t n = tree.nodes.size(), m = tree.prim_order.size();
   s.nodes = n;
-  const size_t chunks = (std::max(n, m) + kChunk - 1) / kChunk;
+  const size_t chunks = chunks_of(std::max(n, m));
   std::vector<ChunkStats> part(chunks);
-  // A root of zero area (cannot happen with valid triangles unless it
-  // underflows) weighs every node 1.
-  const double root_area = n ? tree.nodes[0].bounds.half_area() : 0.0;
+  const double root_area = root_area_of(tree);
   tbb::parallel_for(size_t{0}, chunks, [&](size_t c) {
     ChunkStats& p = part[c];
     for (size_t i = c * kChunk, e = std::min(n, i + kChunk); i < e; ++i) {
       const BuildNode& nd = tree.nodes[i];
-      const double w = root_area > 0.0 ? nd.bounds.half_area() / root_area : 1.0;
       if (nd.is_leaf()) {
         ++p.leaves;
         p.leaf_prims += nd.count;
         p.max_leaf = std::max(p.max_leaf, nd.count);
-        p.cost += w * nd.count;
-      } else {
-        p.cost += w;
       }
+      p.cost += sah_term(nd, root_area);
       p.node_sum += node_hash(nd, i);
     }
     for (size_t k = c * kChunk, e = std::min(m, k + kChunk); k < e; ++k) {
@@ -121,6 +128,23 @@ TreeStats compute_tree_stats(const BuildTree& tree, const PrimInfo& prims) {
   h = splitmix64_mix(h ^ m);
   s.tree_hash = splitmix64_mix(h ^ all.prim_sum);
   return s;
+}
+
+// The same chunks and order of summation as compute_tree_stats (chunks past
+// the nodes add 0), so both give the same bits.
+double build_tree_sah_cost(const BuildTree& tree) {
+  const size_t n = tree.nodes.size();
+  const double root_area = root_area_of(tree);
+  std::vector<double> part(chunks_of(n), 0.0);
+  tbb::parallel_for(size_t{0}, part.size(), [&](size_t c) {
+    double cost = 0.0;
+    for (size_t i = c * kChunk, e = std::min(n, i + kChunk); i < e; ++i)
+      cost += sah_term(tree.nodes[i], root_area);
+    part[c] = cost;
+  });
+  double all = 0.0;
+  for (const double p : part) all += p;
+  return all;
 }
 
 }  // namespace hprt
