@@ -9,8 +9,8 @@
 // other builders (the floor(n/2) smallest indices left when codes tie). A
 // range of at most max_leaf_size primitives is a leaf. No SAH: the bins and
 // SAH options are checked, not used. Ranges of at least parallel_cutoff
-// primitives build their halves as parallel tasks (parallel_parts.h), so the
-// tree is the same for any thread count.
+// primitives build their halves as parallel tasks, so the tree is the same
+// for any thread count.
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
@@ -24,7 +24,6 @@
 
 #include "bvh/builders/builder_common.h"
 #include "bvh/builders/builders.h"
-#include "bvh/builders/parallel_parts.h"
 #include "bvh/memory/huge_buffer.h"
 #include "bvh/split/sah.h"
 
@@ -82,35 +81,58 @@ void radix_pass(const uint64_t* src, uint64_t* dst, size_t n, int shift) {
   });
 }
 
-// A sequential subtree over sorted range [begin, end) is written at
-// scratch[2 * begin]: it has at most 2 (end - begin) - 1 nodes, so the
-// subtrees of disjoint ranges never overlap, and one scratch array (from the
-// buffer cache, reused by the next rebuild) serves every task.
+// Two parallel passes over the split structure, so each node is written once,
+// straight into its place in the canonical preorder (no scratch array, whose
+// fresh pages cost more than the nodes, and no copy): plan() splits the
+// ranges of at least parallel_cutoff primitives as parallel tasks and counts
+// the nodes of each smaller range's subtree (splits only, no boxes); place()
+// then emits every small range's subtree at its offset, in parallel, and
+// bounds the planned nodes above them from their children. The splits of a
+// range depend only on the sorted codes and its depth, so both passes see the
+// same tree, whatever the thread count.
 class MortonBuilder {
  public:
-  MortonBuilder(const BuildOptions& o, const uint64_t* keys, size_t n, const AABB* boxes,
-                BuildNode* scratch)
-      : o_(o), keys_(keys), n_(n), boxes_(boxes), scratch_(scratch) {}
+  struct Plan {
+    size_t begin = 0, end = 0;
+    int depth = 0;
+    size_t total = 0;                   // nodes of the subtree
+    std::unique_ptr<Plan> left, right;  // none: emitted sequentially by place()
+  };
 
-  std::unique_ptr<Part> build(size_t begin, size_t end, int depth) const {
-    auto part = std::make_unique<Part>();
+  MortonBuilder(const BuildOptions& o, const uint64_t* keys, size_t n, const AABB* boxes)
+      : o_(o), keys_(keys), n_(n), boxes_(boxes) {}
+
+  std::unique_ptr<Plan> plan(size_t begin, size_t end, int depth) const {
+    auto p = std::make_unique<Plan>();
+    p->begin = begin;
+    p->end = end;
+    p->depth = depth;
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff) || is_leaf(n)) {
-      BuildNode* out = scratch_ + 2 * begin;
-      size_t count = 0;
-      emit(begin, end, depth, out, count);
-      part->subtree = std::span<const BuildNode>(out, count);
-      part->total = count;
-      return part;
+      p->total = count(begin, end, depth);
+      return p;
     }
     const size_t mid = split(begin, end, depth);
-    tbb::parallel_invoke([&] { part->left = build(begin, mid, depth + 1); },
-                         [&] { part->right = build(mid, end, depth + 1); });
-    AABB bounds = part->left->bounds();
-    bounds.extend(part->right->bounds());
-    part->node = make_inner(bounds);
-    part->total = 1 + part->left->total + part->right->total;
-    return part;
+    tbb::parallel_invoke([&] { p->left = plan(begin, mid, depth + 1); },
+                         [&] { p->right = plan(mid, end, depth + 1); });
+    p->total = 1 + p->left->total + p->right->total;
+    return p;
+  }
+
+  // Writes `p`'s subtree at out[offset, offset + p.total).
+  void place(const Plan& p, size_t offset, BuildNode* out) const {
+    if (!p.left) {
+      size_t next = offset;
+      emit(p.begin, p.end, p.depth, out, next);
+      return;
+    }
+    const size_t right = offset + 1 + p.left->total;
+    tbb::parallel_invoke([&] { place(*p.left, offset + 1, out); },
+                         [&] { place(*p.right, right, out); });
+    AABB bounds = out[offset + 1].bounds;
+    bounds.extend(out[right].bounds);
+    out[offset] = make_inner(bounds);
+    out[offset].right = static_cast<uint32_t>(right);
   }
 
  private:
@@ -118,11 +140,17 @@ class MortonBuilder {
   uint32_t code(size_t i) const { return uint32_t(keys_[i] >> kCodeShift); }
   const AABB& box(size_t i) const { return boxes_[uint32_t(keys_[i])]; }
 
-  // Sequential subtree of [begin, end) appended in preorder to out[count...],
-  // where out[0] is the subtree's root (right children are indices into
-  // `out`). Returns its bounds.
-  AABB emit(size_t begin, size_t end, int depth, BuildNode* out, size_t& count) const {
-    const size_t self = count++;
+  // Nodes of the subtree of [begin, end).
+  size_t count(size_t begin, size_t end, int depth) const {
+    if (is_leaf(end - begin)) return 1;
+    const size_t mid = split(begin, end, depth);
+    return 1 + count(begin, mid, depth + 1) + count(mid, end, depth + 1);
+  }
+
+  // Sequential subtree of [begin, end) written in preorder at out[next...]
+  // (right children are indices into `out`); returns its bounds.
+  AABB emit(size_t begin, size_t end, int depth, BuildNode* out, size_t& next) const {
+    const size_t self = next++;
     if (is_leaf(end - begin)) {
       AABB box;
       for (size_t i = begin; i < end; ++i) {
@@ -136,9 +164,9 @@ class MortonBuilder {
       return box;
     }
     const size_t mid = split(begin, end, depth);
-    AABB box = emit(begin, mid, depth + 1, out, count);
-    const uint32_t right = static_cast<uint32_t>(count);
-    box.extend(emit(mid, end, depth + 1, out, count));
+    AABB box = emit(begin, mid, depth + 1, out, next);
+    const uint32_t right = static_cast<uint32_t>(next);
+    box.extend(emit(mid, end, depth + 1, out, next));
     out[self] = make_inner(box);
     out[self].right = right;
     return box;
@@ -164,8 +192,7 @@ class MortonBuilder {
   const BuildOptions& o_;
   const uint64_t* keys_;  // sorted
   size_t n_;
-  const AABB* boxes_;   // PrimInfo::bounds, indexed by a key's low 32 bits
-  BuildNode* scratch_;  // 2 n nodes
+  const AABB* boxes_;  // PrimInfo::bounds, indexed by a key's low 32 bits
 };
 
 }  // namespace
@@ -202,9 +229,13 @@ BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options) {
                       for (size_t i = r.begin(); i != r.end(); ++i)
                         tree.prim_order[i] = static_cast<uint32_t>(sorted[i]);
                     });
-  const auto scratch = make_huge_buffer<BuildNode>(2 * n);  // a bound: 2n - 1 nodes
-  const MortonBuilder builder(options, sorted, n, prims.bounds.data(), scratch.get());
-  place_parts(*builder.build(0, n, 1), tree);
+  const MortonBuilder builder(options, sorted, n, prims.bounds.data());
+  const auto plan = builder.plan(0, n, 1);
+  // First touched by the placing tasks (as place_parts does).
+  tree.nodes.reserve(plan->total);
+  advise_huge_pages(tree.nodes.data(), plan->total * sizeof(BuildNode));
+  tree.nodes.resize(plan->total);
+  builder.place(*plan, 0, tree.nodes.data());
   return tree;
 }
 

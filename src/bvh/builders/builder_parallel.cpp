@@ -65,8 +65,8 @@ class ParallelBuilder {
       // Built into its own array, sized for the most nodes n primitives can
       // need (2n - 1), so it never grows. From malloc: recycled from build to
       // build only while glibc serves them from its heap (its mmap threshold
-      // rises once large blocks are freed), else fresh pages each time; the
-      // Morton builder's one cached scratch array avoids that (parallel_parts.h).
+      // rises once large blocks are freed), else fresh pages each time (the
+      // Morton builder counts its subtrees first and writes nodes in place).
       part->own.reserve(2 * n - 1);
       BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
       seq.build(begin, end, side, depth, bounds, cbounds, part->own);

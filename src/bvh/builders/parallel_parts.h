@@ -1,8 +1,8 @@
-// The top of a tree built by parallel tasks (builder_parallel, builder_morton):
-// each task returns a Part, either one node with two child parts or a subtree
-// built sequentially in preorder (right children relative to its first node,
-// leaf ranges already final), into the part's own vector or a slice of the
-// builder's scratch array. place_parts stitches them into the canonical
+// The top of a tree built by parallel tasks (builder_parallel): each task
+// returns a Part, either one node with two child parts or a subtree built
+// sequentially in preorder (right children relative to its first node, leaf
+// ranges already final) into the part's own vector. place_parts stitches
+// them into the canonical
 // preorder of build_tree.h from the parts' sizes, so the tree never depends
 // on which thread built what.
 #pragma once
