@@ -62,6 +62,13 @@ AutoUpdatePolicy::Choice AutoUpdatePolicy::after_refit(double refit_cost, const 
   return due > 0.0 && due >= build_ms(best) ? best : Choice::kRefit;
 }
 
+AutoUpdatePolicy::Choice AutoUpdatePolicy::predicted_rebuild(const Queries& q) const {
+  if (frames_since_rebuild_ < 1 || !(q.ms > 0.0 && q.sah_cost > 0.0)) return Choice::kRefit;
+  const double rate = (q.sah_cost - cost_after_rebuild_) / frames_since_rebuild_;
+  AutoUpdatePolicy next = *this;  // the decision without its bookkeeping
+  return next.after_refit(q.sah_cost + rate, q);
+}
+
 AutoUpdatePolicy::Choice AutoUpdatePolicy::forced_rebuild() const { return cheaper(); }
 
 }  // namespace hprt

@@ -58,6 +58,14 @@ class AutoUpdatePolicy {
   // After a valid refit to SAH cost `refit_cost`.
   Choice after_refit(double refit_cost, const Queries& q);
 
+  // Before refitting: the rebuild after_refit would choose if the refit
+  // continued the cost's growth since the last rebuild in a straight line,
+  // else kRefit. A rebuild frame then skips its refit. Only once this
+  // period has refitted and timed queries (q is of a refitted tree), so a
+  // rebuild is always followed by a refit that measures the growth anew
+  // and a scene that stops moving stops rebuilding.
+  Choice predicted_rebuild(const Queries& q) const;
+
   // A rebuild that must happen (the tree cannot be refitted): the builder
   // with the cheaper period by the last measurements.
   Choice forced_rebuild() const;

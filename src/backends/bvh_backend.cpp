@@ -90,9 +90,13 @@ class BvhIntersector final : public Intersector {
     const double query_ms = busy_.take_ms();  // since the last update (auto only)
     time_queries_ = automatic;
     AutoUpdatePolicy::Choice choice = AutoUpdatePolicy::Choice::kRefit;
-    if (must_rebuild(options_.update, built_over_.fits(scene))) {
+    const AutoUpdatePolicy::Queries queries{query_ms, info_.stats.sah_cost};
+    const bool forced = must_rebuild(options_.update, built_over_.fits(scene));
+    if (forced)
       choice = automatic ? auto_policy_.forced_rebuild() : configured_choice();
-    } else {
+    else if (automatic)  // a refit that would be thrown away is not made
+      choice = auto_policy_.predicted_rebuild(queries);
+    if (!forced && choice == AutoUpdatePolicy::Choice::kRefit) {
       // Only the array this backend's triangle test reads is re-gathered.
       const RefitTriangles write = test_arrays();
       const RefitResult r = with_layout(*this, [&](auto& bvh) {
@@ -103,7 +107,7 @@ class BvhIntersector final : public Intersector {
       if (!r.valid)
         choice = automatic ? auto_policy_.forced_rebuild() : configured_choice();
       else if (automatic)
-        choice = auto_policy_.after_refit(r.sah_cost, {query_ms, info_.stats.sah_cost});
+        choice = auto_policy_.after_refit(r.sah_cost, queries);
       else if (rebuild_after_refit(options_, r.valid, r.sah_cost, rebuild_sah_cost_))
         choice = configured_choice();
       if (choice == AutoUpdatePolicy::Choice::kRefit) info_.stats.sah_cost = r.sah_cost;

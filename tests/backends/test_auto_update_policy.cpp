@@ -2,7 +2,8 @@
 // before any query time, the adaptive rule with the cheaper build; frames
 // without queries -> refit; a tree whose lost query time passes a rebuild's
 // cost -> rebuild, with the builder whose best rebuild period is cheaper;
-// slow growth -> a rebuild about every sqrt(2 R / (ms_per_cost g)) frames.
+// slow growth -> a rebuild about every sqrt(2 R / (ms_per_cost g)) frames;
+// the prediction that lets a rebuild frame skip its refit.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -99,6 +100,32 @@ TEST(AutoUpdatePolicy, SlowGrowthRebuildsAtTheBestPeriod) {
   EXPECT_EQ(c, Choice::kSah);
   EXPECT_EQ(frame, 20);
   EXPECT_NEAR(std::sqrt(2.0 * 200.0 / 1.0), double(frame), 0.5);
+}
+
+// predicted_rebuild extrapolates the refitted cost along its growth since
+// the last rebuild: on the slow growth above (linear, so exact) it says
+// rebuild exactly on the frame after_refit would, and keep before; right
+// after a rebuild (no growth measured in this period) and without timed
+// queries it says refit, whatever the figures.
+TEST(AutoUpdatePolicy, PredictedRebuildComesOnTheFrameTheRefitWouldChoose) {
+  AutoUpdatePolicy p(true, 1.3);
+  p.rebuilt(Choice::kMorton, 150.0, 130.0);
+  p.rebuilt(Choice::kSah, 200.0, 100.0);
+  EXPECT_EQ(p.predicted_rebuild({1.0e6, 100.0}), Choice::kRefit);  // no refit since the rebuild
+  int frame = 1;
+  Choice c = Choice::kRefit;
+  for (; frame < 100; ++frame) {
+    const double cost = 100.0 + frame;
+    const AutoUpdatePolicy::Queries q{cost - 1.0, cost - 1.0};
+    c = p.predicted_rebuild(q);
+    if (c != Choice::kRefit) break;
+    ASSERT_EQ(p.after_refit(cost, q), Choice::kRefit) << frame;
+  }
+  EXPECT_EQ(c, Choice::kSah);
+  EXPECT_EQ(frame, 20);
+  EXPECT_EQ(p.predicted_rebuild({}), Choice::kRefit);             // nothing queried
+  EXPECT_EQ(p.predicted_rebuild({0.0, 5000.0}), Choice::kRefit);  // nothing timed
+  EXPECT_EQ(p.predicted_rebuild({1.0e6, 119.0}), Choice::kSah);
 }
 
 TEST(AutoUpdatePolicy, AMortonOnlyConfigurationRebuildsWithMorton) {

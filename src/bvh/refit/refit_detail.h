@@ -59,6 +59,20 @@ inline bool nonzero_area(__m128 a, __m128 b, __m128 c) {
 #endif
 }
 
+// The vertices of leaf-order triangle j (when there is one), for the gather
+// kVertexAhead triangles on: the walk visits the leaves in leaf order, so
+// they are the ones it reads next, at random in the mesh. Always inlined:
+// GCC deletes a call whose only effects are prefetches.
+constexpr uint32_t kVertexAhead = 8;
+[[gnu::always_inline]] inline void prefetch_vertices(const LeafTriangles& tris, const Scene& scene,
+                                                     const Vec3u* index, uint32_t j) {
+  if (j >= tris.size()) return;
+  const Vec3f* positions = scene.meshes[tris.refs[j].geom_id].positions.data();
+  const Vec3u t = index[j];
+  for (int k = 0; k < 3; ++k)
+    _mm_prefetch(reinterpret_cast<const char*>(&positions[t[k]]), _MM_HINT_T0);
+}
+
 // Gathers the leaf's triangles into leaf order and bounds them; `valid` is
 // TriangleMesh::triangle_valid on the gathered vertices (finite, and
 // nonzero_area: exact, so a triangle the builder kept is valid here exactly
@@ -69,6 +83,7 @@ inline Partial refit_leaf(LeafTriangles& tris, const Scene& scene, const Vec3u* 
   Partial p;
   VecBox box;  // min / max are exact: the same box as AABB::extend, in vector registers
   for (uint32_t j = leaf.first; j < leaf.first + leaf.count; ++j) {
+    if (index) prefetch_vertices(tris, scene, index, j + kVertexAhead);
     const PrimRef ref = tris.refs[j];
     const TriangleMesh& mesh = scene.meshes[ref.geom_id];
     const Vec3u t = index ? index[j] : mesh.triangles[ref.prim_id];
