@@ -317,9 +317,10 @@ BenchReport run_frames_bench(const FramesBenchConfig& config) {
       "Embree's default rows against each other (`hprt bench frontier` counts the rays each "
       "gets wrong).");
   table.add_note(
-      "default: the row that runs with the default options (no flags): bvh auto, which after "
-      "each refit keeps the refitted tree or rebuilds it with the Morton or the SAH builder, "
-      "whichever its measured rebuild and query times say is cheaper over the coming frames. "
+      "default: the row that runs with the default options (no flags): bvh auto, which each "
+      "frame keeps the refitted tree or rebuilds it with the Morton or the SAH builder, "
+      "whichever its measured rebuild and query times say is cheaper over the coming frames "
+      "(a frame it predicts to rebuild skips the refit). "
       "updates: per timed frame, r refit, m Morton rebuild, s SAH rebuild, b rebuild (Embree).");
   table.add_note(
       "bvh adaptive refits while the refitted SAH cost stays within adaptive_factor (see the "
