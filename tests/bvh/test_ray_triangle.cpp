@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
@@ -197,6 +198,54 @@ TEST(TriangleTestWatertight, BarycentricsMatchMollerOnRandomHits) {
     EXPECT_NEAR(hw.v, hm.v, 2e-3f);
   }
   EXPECT_GT(hits, 1800);
+}
+
+// prepare() and lane_bound() are written without branches; here they are
+// checked field by field against the paper's axis choice and the bound's
+// definition written out plainly, on directions with tied magnitudes, signed
+// zeros and every sign, and on origins inside and outside the box.
+TEST(TriangleTestWatertight, PreparedStateIsThePapersAxesAndTheBoxBound) {
+  const float vals[] = {0.0f, -0.0f, 1.0f, -1.0f, 0.5f, -2.0f, 3e-20f, -7e30f};
+  const AABB box(Vec3f{-1.5f, 2.0f, -3e5f}, Vec3f{4.0f, 2.5f, 1e-3f});
+  int checked = 0;
+  for (float x : vals)
+    for (float y : vals)
+      for (float z : vals) {
+        const Vec3f d{x, y, z};
+        if (d.x == 0.0f && d.y == 0.0f && d.z == 0.0f) continue;
+        for (const Vec3f& o : {Vec3f{0.25f, 2.1f, -7.0f}, Vec3f{-9e6f, 3.0f, 5.0f}}) {
+          const Ray r = make_ray(o, d);
+          const WatertightTest::Prepared p = WatertightTest::prepare(r, box);
+          const Vec3f a{std::fabs(d.x), std::fabs(d.y), std::fabs(d.z)};
+          int kz = a.x >= a.y ? (a.x >= a.z ? 0 : 2) : (a.y >= a.z ? 1 : 2);
+          int kx = kz == 2 ? 0 : kz + 1, ky = kx == 2 ? 0 : kx + 1;
+          if (d[kz] < 0.0f) std::swap(kx, ky);
+          ASSERT_EQ(p.kz, kz);
+          ASSERT_EQ(p.kx, kx);
+          ASSERT_EQ(p.ky, ky);
+          ASSERT_EQ(p.ox, double(o[kx]));
+          ASSERT_EQ(p.oy, double(o[ky]));
+          ASSERT_EQ(p.oz, double(o[kz]));
+          ASSERT_EQ(p.sz, 1.0 / double(d[kz]));
+          ASSERT_EQ(p.sx, double(d[kx]) * p.sz);
+          ASSERT_EQ(p.sy, double(d[ky]) * p.sz);
+          float m = 0.0f;
+          for (int k = 0; k < 3; ++k)
+            m = std::max({m, std::fabs(box.max[k] - o[k]), std::fabs(box.min[k] - o[k])});
+          ASSERT_EQ(p.lane_bound, std::fma(0x1p-47 * (2.0 * m), 2.0 * m, 0x1p-900));
+          ++checked;
+        }
+      }
+  EXPECT_EQ(checked, 2 * (8 * 8 * 8 - 8));
+  // Packets pass the box of their origins: the largest distance may pair
+  // the box's minimum with the origins' maximum (y: |-50 - 9|) or its
+  // maximum with their minimum (x: |4 - -200|).
+  const AABB wide_y(Vec3f{-1.5f, -50.0f, -3.0f}, Vec3f{4.0f, 2.5f, 1e-3f});
+  const Vec3f lo{-20.0f, 0.0f, 0.0f}, hi{0.0f, 9.0f, 0.0f};
+  EXPECT_EQ(WatertightTest::lane_bound(lo, hi, wide_y), std::fma(0x1p-47 * 118.0, 118.0, 0x1p-900));
+  EXPECT_EQ(WatertightTest::lane_bound(Vec3f{-200.0f, 0.0f, 0.0f}, hi, wide_y),
+            std::fma(0x1p-47 * 408.0, 408.0, 0x1p-900));
+  EXPECT_EQ(WatertightTest::lane_bound(lo, hi, AABB{}), HUGE_VAL);
 }
 
 }  // namespace
