@@ -23,7 +23,7 @@ namespace hprt {
 namespace detail {
 template <int N>
 HPRT_FORCE_INLINE void prefetch_node(const WideNode<N>* node) {
-  prefetch_lines(node, sizeof(WideNode<N>));
+  prefetch_aligned(node);
 }
 
 // One inner node of a closest-hit or any-hit traversal: tests the ray
