@@ -1,7 +1,8 @@
 // Build benchmark. Timed call for our builders: make_prim_info + build_tree
-// (boxes, centroids and the binary SAH tree; flattening to the traversal
-// layout is timed separately once); for Embree: the backend's build() (scene,
-// shared-buffer geometry, rtcCommitScene) and rtcBuildBVH alone. Each inside
+// (boxes, centroids where the builder reads them, and the binary SAH tree;
+// flattening to the traversal layout is timed separately once); for Embree:
+// the backend's build() (scene, shared-buffer geometry, rtcCommitScene) and
+// rtcBuildBVH alone. Each inside
 // a task arena of the row's thread count; median, min and max of repetitions,
 // which run round-robin over the rows of a mesh.
 #include "bench/bench_build.h"
@@ -216,7 +217,7 @@ std::function<double(int)> our_build_sample(BuilderKind builder, int t, Timed* r
       std::optional<PrimInfo> prims;
       std::optional<BuildTree> tree;
       const double ms = time_ms([&] {
-        prims.emplace(make_prim_info(scene));
+        prims.emplace(make_prim_info(scene, builder_reads_centroids(opts.builder)));
         tree.emplace(build_tree(*prims, opts));
       });
       if (rep == 0) {

@@ -196,7 +196,7 @@ class BvhIntersector final : public Intersector {
   // when animated).
   double rebuild(const Scene& scene, StatsPass stats_pass, const BuildOptions& build) {
     const auto start = Clock::now();
-    const PrimInfo prims = make_prim_info(scene);
+    const PrimInfo prims = make_prim_info(scene, builder_reads_centroids(build.builder));
     const BuildTree tree = build_tree(prims, build);
     // The last build's triangle arrays (and refit index) are rewritten in
     // place: over the same triangles they have the sizes already, so a

@@ -1,8 +1,10 @@
 // Tests of make_prim_info: valid triangles only, refs, boxes, centroids, bounds.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
 #include <vector>
 
+#include "bvh/builders/builders.h"
 #include "bvh/input/prim_info.h"
 #include "core/parallel.h"
 #include "tests/support/bvh_test_meshes.h"
@@ -80,6 +82,39 @@ TEST(PrimInfo, MatchesASequentialReferenceAcrossChunks) {
   EXPECT_EQ(std::vector<AABB>(p.bounds.begin(), p.bounds.end()), bounds);
   EXPECT_EQ(std::vector<Vec3f>(p.centroids.begin(), p.centroids.end()), centroids);
   EXPECT_EQ(std::vector<PrimRef>(p.refs.begin(), p.refs.end()), refs);
+}
+
+// Without stored centroids (the binned and parallel builders' input) the
+// boxes, refs and both bounds are the same, the centroid array is empty,
+// those builders make the same trees, and the builders that read centroids
+// refuse it.
+TEST(PrimInfo, WithoutCentroidsTheRestIsTheSame) {
+  Scene s;
+  TriangleMesh m = random_soup(40000, 5);
+  for (size_t i = 0; i < m.triangles.size(); i += 53) m.triangles[i][1] = m.triangles[i][0];
+  s.add_mesh(m);
+  s.add_mesh(grid(30, 30));
+  const PrimInfo full = run_with_threads(2, [&] { return make_prim_info(s); });
+  const PrimInfo lean = run_with_threads(2, [&] { return make_prim_info(s, false); });
+  EXPECT_EQ(lean.centroids.size(), 0u);
+  EXPECT_EQ(lean.bounds, full.bounds);
+  EXPECT_EQ(lean.refs, full.refs);
+  EXPECT_EQ(lean.invalid, full.invalid);
+  EXPECT_EQ(lean.scene_bounds, full.scene_bounds);
+  EXPECT_EQ(lean.centroid_bounds, full.centroid_bounds);
+  for (BuilderKind b : {BuilderKind::kSweep, BuilderKind::kPresorted, BuilderKind::kBinned,
+                        BuilderKind::kParallel, BuilderKind::kMorton}) {
+    BuildOptions o;
+    o.builder = b;
+    if (builder_reads_centroids(b)) {
+      EXPECT_THROW(build_tree(lean, o), std::invalid_argument);
+    } else {
+      EXPECT_EQ(run_with_threads(2, [&] { return build_tree(lean, o); }),
+                run_with_threads(2, [&] { return build_tree(full, o); }));
+    }
+  }
+  EXPECT_TRUE(builder_reads_centroids(BuilderKind::kMorton));
+  EXPECT_FALSE(builder_reads_centroids(BuilderKind::kParallel));
 }
 
 TEST(PrimInfo, EmptyScene) {

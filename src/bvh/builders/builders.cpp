@@ -3,9 +3,18 @@
 // gives a tree with no nodes, a single primitive a single leaf.
 #include "bvh/builders/builders.h"
 
+#include <stdexcept>
+
 namespace hprt {
 
+bool builder_reads_centroids(BuilderKind builder) {
+  return builder == BuilderKind::kSweep || builder == BuilderKind::kPresorted ||
+         builder == BuilderKind::kMorton;
+}
+
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options) {
+  if (builder_reads_centroids(options.builder) && prims.centroids.size() != prims.size())
+    throw std::invalid_argument("build_tree: this builder needs the primitives' centroids");
   switch (options.builder) {
     case BuilderKind::kSweep:
       return build_sweep(prims, options);

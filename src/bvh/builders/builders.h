@@ -16,7 +16,13 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options);   
 // Not in the report: Morton codes, no SAH (builder_morton.cpp).
 BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
 
+// Throws std::invalid_argument when the builder reads centroids and `prims`
+// was made without them.
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
+
+// Whether the builder reads PrimInfo::centroids (sweep, presorted, Morton);
+// the binned and parallel builders take centres from their box references.
+bool builder_reads_centroids(BuilderKind builder);
 
 // Statistics and the 64-bit tree hash of docs/ARCHITECTURE.md (tree_stats.cpp).
 TreeStats compute_tree_stats(const BuildTree& tree, const PrimInfo& prims);

@@ -28,7 +28,7 @@ AABB triangle_box(const TriangleMesh& m, size_t i) {
 
 }  // namespace
 
-PrimInfo make_prim_info(const Scene& scene) {
+PrimInfo make_prim_info(const Scene& scene, bool store_centroids) {
   PrimInfo info;
   struct Chunk {
     uint32_t geom;
@@ -46,7 +46,7 @@ PrimInfo make_prim_info(const Scene& scene) {
   }
   // Uninitialised: the fill writes every element kept (first touch in parallel).
   info.bounds = BuildArray<AABB>(all);
-  info.centroids = BuildArray<Vec3f>(all);
+  if (store_centroids) info.centroids = BuildArray<Vec3f>(all);
   info.refs = BuildArray<PrimRef>(all);
   // One pass: each chunk writes its valid triangles from its slot on, and
   // reduces its bounds (min/max: exact in any order).
@@ -61,7 +61,7 @@ PrimInfo make_prim_info(const Scene& scene) {
       const AABB b = triangle_box(m, i);
       const Vec3f centre = b.center();
       info.bounds[w] = b;
-      info.centroids[w] = centre;
+      if (store_centroids) info.centroids[w] = centre;
       info.refs[w] = {ch.geom, static_cast<uint32_t>(i)};
       sb.extend(b);
       cb.extend(centre);
@@ -80,14 +80,14 @@ PrimInfo make_prim_info(const Scene& scene) {
         std::copy(a.begin() + ch.slot, a.begin() + ch.slot + ch.valid, a.begin() + total);
       };
       move_down(info.bounds);
-      move_down(info.centroids);
+      if (store_centroids) move_down(info.centroids);
       move_down(info.refs);
     }
     total += ch.valid;
   }
   info.invalid = all - total;
   info.bounds.shrink(total);
-  info.centroids.shrink(total);
+  if (store_centroids) info.centroids.shrink(total);
   info.refs.shrink(total);
   for (size_t c = 0; c < chunks.size(); ++c) {
     info.scene_bounds.extend(chunk_bounds[c]);

@@ -26,13 +26,16 @@ struct PrimInfo {
   BuildArray<Vec3f> centroids;
   BuildArray<PrimRef> refs;
   AABB scene_bounds;     // union of `bounds`
-  AABB centroid_bounds;  // bounds of `centroids`
+  AABB centroid_bounds;  // bounds of the centroids (also when they are not stored)
   size_t invalid = 0;    // triangles left out (degenerate or non-finite)
 
   size_t size() const { return bounds.size(); }
 };
 
-// Valid triangles of every mesh, in (geomID, primID) order.
-PrimInfo make_prim_info(const Scene& scene);
+// Valid triangles of every mesh, in (geomID, primID) order. Without
+// `store_centroids` the centroids array is left empty (12 bytes a triangle
+// neither written nor held): the binned builders take box centres from their
+// own references (builder_reads_centroids in builders.h says which need it).
+PrimInfo make_prim_info(const Scene& scene, bool store_centroids = true);
 
 }  // namespace hprt
