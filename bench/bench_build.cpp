@@ -2,9 +2,9 @@
 // (boxes, centroids where the builder reads them, and the binary SAH tree;
 // flattening to the traversal layout is timed separately once); for Embree:
 // the backend's build() (scene, shared-buffer geometry, rtcCommitScene) and
-// rtcBuildBVH alone. Each inside
-// a task arena of the row's thread count; median, min and max of repetitions,
-// which run round-robin over the rows of a mesh.
+// rtcBuildBVH alone. Each inside a task arena of the row's thread count;
+// median, min and max of repetitions, which run round-robin over the rows of
+// a mesh.
 #include "bench/bench_build.h"
 
 #include <algorithm>
