@@ -33,12 +33,19 @@ TEST(PrimInfo, KeepsValidTrianglesWithTheirRefs) {
   EXPECT_EQ(p.centroid_bounds, cb);
 }
 
-TEST(PrimInfo, SameResultForAnyThreadCount) {
+// A soup of n triangles of which every `every`-th is degenerate, beside a
+// grid of g x g cells.
+Scene soup_with_gaps_and_grid(size_t n, uint64_t seed, size_t every, int g) {
   Scene s;
-  TriangleMesh m = random_soup(100000, 2);
-  for (size_t i = 0; i < m.triangles.size(); i += 97) m.triangles[i][1] = m.triangles[i][0];
+  TriangleMesh m = random_soup(n, seed);
+  for (size_t i = 0; i < m.triangles.size(); i += every) m.triangles[i][1] = m.triangles[i][0];
   s.add_mesh(m);
-  s.add_mesh(grid(50, 50));
+  s.add_mesh(grid(g, g));
+  return s;
+}
+
+TEST(PrimInfo, SameResultForAnyThreadCount) {
+  const Scene s = soup_with_gaps_and_grid(100000, 2, 97, 50);
   const PrimInfo one = run_with_threads(1, [&] { return make_prim_info(s); });
   const PrimInfo many = run_with_threads(7, [&] { return make_prim_info(s); });
   EXPECT_EQ(one.invalid, (100000 + 96) / 97);
@@ -89,11 +96,7 @@ TEST(PrimInfo, MatchesASequentialReferenceAcrossChunks) {
 // those builders make the same trees, and the builders that read centroids
 // refuse it.
 TEST(PrimInfo, WithoutCentroidsTheRestIsTheSame) {
-  Scene s;
-  TriangleMesh m = random_soup(40000, 5);
-  for (size_t i = 0; i < m.triangles.size(); i += 53) m.triangles[i][1] = m.triangles[i][0];
-  s.add_mesh(m);
-  s.add_mesh(grid(30, 30));
+  const Scene s = soup_with_gaps_and_grid(40000, 5, 53, 30);
   const PrimInfo full = run_with_threads(2, [&] { return make_prim_info(s); });
   const PrimInfo lean = run_with_threads(2, [&] { return make_prim_info(s, false); });
   EXPECT_EQ(lean.centroids.size(), 0u);

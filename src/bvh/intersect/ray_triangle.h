@@ -111,7 +111,7 @@ struct WatertightTest {
     const bool x_over_y = ax >= ay;
     const float a_xy = x_over_y ? ax : ay;
     const int k_xy = x_over_y ? 0 : 1;
-    p.kz = 2 - int(a_xy >= az) * (2 - k_xy);  // arithmetic: g++ branched on a select here
+    p.kz = 2 - int(a_xy >= az) * (2 - k_xy);  // arithmetic, so no branch is emitted
     const int kx = kNext[p.kz], ky = kNext[kx];
     const bool flip = d[p.kz] < 0.0f;  // swapped to keep the winding
     p.kx = flip ? ky : kx;
