@@ -52,7 +52,7 @@ TEST_F(CliGenerate, SphereWritesLoadablePly) {
 }
 
 TEST_F(CliGenerate, EveryKindAndSubdivide) {
-  for (const char* kind : {"torus", "soup", "slivers", "terrain", "plane"}) {
+  for (const char* kind : {"bumpy", "torus", "soup", "slivers", "sheet", "terrain", "plane"}) {
     ASSERT_EQ(hprt(std::string("generate ") + kind + " --tris 500 --seed 9 -o " + out("k.ply")), 0)
         << kind;
     EXPECT_GE(hprt::load_mesh(out("k.ply")).triangle_count(), 500u) << kind;

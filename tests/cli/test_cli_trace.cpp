@@ -100,6 +100,32 @@ TEST_F(CliTrace, ThreadCountDoesNotChangeTheHitsFile) {
   EXPECT_EQ(slurp(path("a.hits")), slurp(path("b.hits")));
 }
 
+TEST_F(CliTrace, RepeatGivesTheSameAnswersAndReportsTheMedian) {
+  make_rays();
+  const std::string base =
+      "trace " + path("cube.obj") + " --backend bvh --threads 1 --rays " + path("x.rays");
+  ASSERT_EQ(run(base + " -o " + path("once.hits")).code, 0);
+  const CliResult r = run(base + " --repeat 3 --json -o " + path("thrice.hits"));
+  ASSERT_EQ(r.code, 0) << r.err;
+  EXPECT_EQ(slurp(path("once.hits")), slurp(path("thrice.hits")));
+  EXPECT_NE(r.err.find("(median of 3)"), std::string::npos) << r.err;
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j.at("repeat").get<int>(), 3);
+  EXPECT_GE(j.at("ms_first").get<double>(), 0.0);
+  EXPECT_GE(j.at("ms").get<double>(), 0.0);
+  // Occlusion repeats too, and a single trace says it was one.
+  const CliResult o = run(base + " --occluded --repeat 2 --json -o " + path("x.occ"));
+  ASSERT_EQ(o.code, 0) << o.err;
+  EXPECT_EQ(nlohmann::json::parse(o.out).at("repeat").get<int>(), 2);
+  EXPECT_EQ(slurp(path("x.occ")).size(), 1000u);
+  const CliResult one = run(base + " --json -o " + path("one.hits"));
+  ASSERT_EQ(one.code, 0) << one.err;
+  EXPECT_EQ(one.err.find("median"), std::string::npos) << one.err;
+  const nlohmann::json j1 = nlohmann::json::parse(one.out);
+  EXPECT_EQ(j1.at("repeat").get<int>(), 1);
+  EXPECT_EQ(j1.at("ms_first").get<double>(), j1.at("ms").get<double>());
+}
+
 TEST_F(CliTrace, BadInputExitsTwoAndLeavesNoOutput) {
   make_rays();
   std::ofstream(path("bad.rays"), std::ios::binary) << std::string(100, '\0');
@@ -125,6 +151,9 @@ TEST_F(CliTrace, BadInputExitsTwoAndLeavesNoOutput) {
       {"missing output directory", "trace " + good + " -o " + path("missing_dir") + "/out.hits",
        "missing_dir"},
       {"negative threads", "trace " + good + " --threads -1" + out, "threads"},
+      {"zero repeats", "trace " + good + " --repeat 0" + out, "repeat"},
+      {"too many repeats", "trace " + good + " --repeat 1001" + out, "repeat"},
+      {"fractional repeats", "trace " + good + " --repeat 1.5" + out, "repeat"},
       {"too many rays",
        "rays " + path("cube.obj") + " --kind random -n 1000000000000 -o " + path("out.rays"),
        "too many rays"},

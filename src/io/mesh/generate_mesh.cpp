@@ -8,8 +8,8 @@
 namespace hprt {
 
 const std::vector<std::string>& generator_kinds() {
-  static const std::vector<std::string> kinds{"sphere",  "bumpy",   "torus", "soup",
-                                              "slivers", "terrain", "plane", "subdivide"};
+  static const std::vector<std::string> kinds{"sphere", "bumpy",   "torus", "soup",     "slivers",
+                                              "sheet",  "terrain", "plane", "subdivide"};
   return kinds;
 }
 
