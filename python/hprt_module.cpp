@@ -365,8 +365,8 @@ PYBIND11_MODULE(hprt, m) {
           "exact on the bvh backend, nsamples as in compute_signed_distance")
       .def("info", &info,
            "backend configuration, build time, memory (memory_bytes: the backend's structure; "
-           "normals_bytes: the triangle normals cast_rays and compute_closest_points keep, 12 "
-           "bytes per triangle once made), geometry counts")
+           "normals_bytes: the triangle normals compute_closest_points keeps, 12 bytes per "
+           "triangle once made), geometry counts")
       .def_static(
           "create_rays_pinhole",
           [](double fov_deg, const py::handle& center, const py::handle& eye, const py::handle& up,

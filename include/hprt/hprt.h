@@ -110,6 +110,10 @@ class HPRT_API Scene {
   // a shared mesh; else valid until the next add_mesh or set_vertices).
   std::span<const float> vertices(uint32_t geom_id) const;
   std::span<const uint32_t> indices(uint32_t geom_id) const;
+  // The unit geometric normal of each triangle of mesh geom_id, 3 floats per
+  // triangle (out.size() >= 3 * its triangle count), as
+  // Backend::intersect with normals reports it for a hit.
+  void normals(uint32_t geom_id, std::span<float> out) const;
   // Bounding box of the finite vertices: min x, y, z, max x, y, z.
   std::array<float, 6> bounds() const;
 
@@ -159,6 +163,14 @@ class HPRT_API Backend {
   // hits.size() and occluded.size() must be at least rays.size().
   // occluded: 1 when some hit has t in (tnear, tfar], else 0.
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
+  // The same, also writing each hit triangle's unit geometric normal, 3
+  // floats per ray (normals.size() >= 3 * rays.size()): (v1 - v0) x (v2 - v0)
+  // of the triangle as added, normalised in double and rounded to float, so
+  // every backend gives the same bits; zero on a miss or for a triangle of
+  // zero area. The bvh backend reads it during the traversal from a table
+  // it makes at the first such call after a build or update (12 bytes per
+  // triangle); the others compute it from the scene after tracing.
+  void intersect(std::span<const Ray> rays, std::span<Hit> hits, std::span<float> normals) const;
   void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
 
   // Surface crossings along each ray in (tnear, tfar]: counts[i] for

@@ -106,7 +106,8 @@ def test_arrays_are_used_in_place_and_update_triangles():
 
 
 def test_normals_follow_moved_and_added_triangles():
-    # The per-triangle normals the scene keeps for cast_rays and
+    # cast_rays' normals come from the backend's trace and follow moved
+    # triangles; the per-triangle normals the scene keeps for
     # compute_closest_points are remade after update_triangles and
     # add_triangles, and info() reports their memory.
     v, t = grid(8)
@@ -116,7 +117,7 @@ def test_normals_follow_moved_and_added_triangles():
     rays = np.array([down(0.3, -0.2)], np.float32)
     np.testing.assert_allclose(np.abs(scene.cast_rays(rays)["primitive_normals"][0]), [0, 0, 1],
                                atol=1e-6)
-    assert scene.info()["normals_bytes"] == 12 * len(t)
+    assert scene.info()["normals_bytes"] == 0  # cast_rays keeps none of its own
     tilted = v.copy()
     tilted[:, 2] = 0.5 * v[:, 0]  # the plane z = x / 2
     scene.update_triangles(gid, tilted)
@@ -459,3 +460,52 @@ def test_normals_of_many_hits_and_closest_points_over_two_geometries():
     np.testing.assert_allclose(c["primitive_normals"],
                                expected_normals(geoms, c["geometry_ids"], c["primitive_ids"]),
                                atol=1e-6)
+
+
+@pytest.mark.parametrize("moved", [False, True])
+def test_cast_rays_normals_are_the_same_bits_on_every_backend(moved):
+    # The bvh backend computes a hit's normal from the vertices its test read
+    # (or, with the mt test, copies it from a table); Embree's scene computes
+    # it from the mesh after the trace: the same bits for the same triangle,
+    # for every layout, after a refit too. Coherent rays make packets,
+    # random ones single rays.
+    geoms = [grid(16), cube()]
+    rng = np.random.default_rng(11)
+    n = 8000
+    org = rng.uniform(-2.0, 2.0, (n, 3)).astype(np.float32)
+    dirs = rng.normal(size=(n, 3)).astype(np.float32)
+    random_rays = np.hstack([org, dirs])
+    camera = hprt.RaycastingScene.create_rays_pinhole(60.0, [0, 0, 0], [0.3, 0.4, 3.0], [0, 1, 0],
+                                                      64, 48).reshape(-1, 6)
+    rays = np.vstack([random_rays, camera])
+    answers = {}
+    for name, opts in [("bvh", {}), ("bvh", {"isect": "mt"}), ("bvh", {"layout": "bvh2"}),
+                       ("bvh", {"layout": "bvh4"}), ("embree", {})]:
+        scene = hprt.RaycastingScene(backend=name, **opts)
+        ids = [scene.add_triangles(v, t) for v, t in geoms]
+        scene.cast_rays(rays[:1])
+        if moved:
+            v, t = geoms[0]
+            bent = v.copy()
+            bent[:, 2] = 0.25 * v[:, 0] * v[:, 1]
+            scene.update_triangles(ids[0], bent)
+        answers[(name, tuple(opts.items()))] = scene.cast_rays(rays)
+    geoms_now = geoms
+    if moved:
+        v, t = geoms[0]
+        bent = v.copy()
+        bent[:, 2] = 0.25 * v[:, 0] * v[:, 1]
+        geoms_now = [(bent, t), geoms[1]]
+    first = answers[("bvh", ())]
+    hit = first["primitive_ids"] != hprt.RaycastingScene.INVALID_ID
+    assert hit.sum() > n // 4
+    np.testing.assert_allclose(first["primitive_normals"],
+                               expected_normals(geoms_now, first["geometry_ids"],
+                                                first["primitive_ids"]), atol=1e-6)
+    assert (first["primitive_normals"][~hit] == 0).all()
+    for key, ans in answers.items():
+        same = (ans["primitive_ids"] == first["primitive_ids"]) & \
+               (ans["geometry_ids"] == first["geometry_ids"])
+        assert same.mean() > 0.99, key
+        np.testing.assert_array_equal(ans["primitive_normals"][same],
+                                      first["primitive_normals"][same], err_msg=str(key))

@@ -36,12 +36,14 @@ Backend& Backend::operator=(Backend&&) noexcept = default;
 void Backend::build(const Scene& scene) {
   translate_errors([&] {
     impl_->run([&] { const_cast<Intersector&>(impl_->built()).build(scene.impl().scene); });
+    impl_->scene = &scene.impl().scene;
   });
 }
 
 void Backend::update(const Scene& scene) {
   translate_errors([&] {
     impl_->run([&] { const_cast<Intersector&>(impl_->built()).update(scene.impl().scene); });
+    impl_->scene = &scene.impl().scene;
   });
 }
 
@@ -51,6 +53,21 @@ void Backend::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
   const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
   const std::span<hprt::Hit> h(reinterpret_cast<hprt::Hit*>(hits.data()), rays.size());
   translate_errors([&] { impl_->run([&] { impl_->built().intersect(r, h); }); });
+}
+
+void Backend::intersect(std::span<const Ray> rays, std::span<Hit> hits,
+                        std::span<float> normals) const {
+  if (hits.size() < rays.size()) throw std::invalid_argument("intersect: fewer hits than rays");
+  if (normals.size() < 3 * rays.size())
+    throw std::invalid_argument("intersect: fewer normals than 3 per ray");
+  static const hprt::Scene kNothingBuilt;
+  const hprt::Scene& scene = impl_->scene ? *impl_->scene : kNothingBuilt;
+  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
+  const std::span<hprt::Hit> h(reinterpret_cast<hprt::Hit*>(hits.data()), rays.size());
+  translate_errors([&] {
+    impl_->run(
+        [&] { impl_->built().intersect_normals(scene, r, h, normals.first(3 * rays.size())); });
+  });
 }
 
 void Backend::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const {

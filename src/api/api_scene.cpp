@@ -1,7 +1,11 @@
 #include "api/api_scene.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <algorithm>
 
 #include "api/api_errors.h"
+#include "core/triangle_normal.h"
 #include "io/mesh/mesh_reader.h"
 #include "io/scene/scene_reader.h"
 
@@ -130,6 +134,17 @@ std::span<const float> Scene::vertices(uint32_t geom_id) const {
 std::span<const uint32_t> Scene::indices(uint32_t geom_id) const {
   const hprt::TriangleMesh& m = mesh_at(impl_->scene, geom_id);
   return {reinterpret_cast<const uint32_t*>(m.triangles.data()), 3 * m.triangles.size()};
+}
+
+void Scene::normals(uint32_t geom_id, std::span<float> out) const {
+  const hprt::TriangleMesh& m = mesh_at(impl_->scene, geom_id);
+  if (out.size() < 3 * m.triangle_count())
+    throw std::invalid_argument("normals: fewer than 3 floats per triangle");
+  tbb::parallel_for(tbb::blocked_range<size_t>(0, m.triangle_count(), 16384),
+                    [&](const tbb::blocked_range<size_t>& r) {
+                      for (size_t t = r.begin(); t != r.end(); ++t)
+                        triangle_normal(m, uint32_t(t), out.data() + 3 * t);
+                    });
 }
 
 std::array<float, 6> Scene::bounds() const {

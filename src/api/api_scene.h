@@ -22,6 +22,9 @@ struct Backend::Impl {
   // Set when the options name a thread count; else work runs in the
   // caller's arena.
   std::unique_ptr<tbb::task_arena> arena;
+  // The scene of the last build() or update(): intersect with normals reads
+  // its triangles (Intersector::intersect_normals).
+  const hprt::Scene* scene = nullptr;
 
   template <typename F>
   decltype(auto) run(F&& f) const {

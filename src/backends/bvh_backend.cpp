@@ -6,10 +6,14 @@
 // update_policy.h's; what the tree was built over, mesh_record.h's.
 #include "backends/bvh_backend.h"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
+#include <mutex>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -28,6 +32,7 @@
 #include "bvh/traverse/trace_batch.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "core/triangle_normal.h"
 
 namespace hprt {
 namespace {
@@ -62,6 +67,7 @@ class BvhIntersector final : public Intersector {
   // arrays are kept for the first rebuild already, as update() keeps them
   // (the embree backend makes such a scene RTC_SCENE_FLAG_DYNAMIC).
   void build(const Scene& scene) override {
+    drop_leaf_normals();
     if (scene.animation.animated() && !retain_buffers_) retain_buffers_.emplace();
     info_.build_ms = rebuild(scene, StatsPass::kAfter, options_.build);
     auto_policy_.rebuilt(configured_choice(), info_.build_ms, rebuild_sah_cost_);
@@ -85,6 +91,7 @@ class BvhIntersector final : public Intersector {
   // (huge_buffer.h).
   void update(const Scene& scene) override {
     const auto start = Clock::now();
+    drop_leaf_normals();
     if (!retain_buffers_) retain_buffers_.emplace();
     const bool automatic = options_.update == UpdateStrategy::kAuto;
     const double query_ms = busy_.take_ms();  // since the last update (auto only)
@@ -134,6 +141,20 @@ class BvhIntersector final : public Intersector {
     });
   }
 
+  void intersect_normals(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits,
+                         std::span<float> normals) const override {
+    if (hits.size() < rays.size() || normals.size() < 3 * rays.size())
+      throw std::invalid_argument("intersect_normals: fewer result slots than rays");
+    const BusyClock::Scope timed(query_clock());
+    with_layout(*this, [&](const auto& bvh) {
+      const LeafTriangles& tris = bvh.triangles;
+      const HitNormals out{&tris,
+                           tris.holds(TriangleArrays::kVerts) ? nullptr : leaf_normals(scene, tris),
+                           normals.data()};
+      intersect_batch(bvh, options_.triangle_test, rays, hits.data(), &out);
+    });
+  }
+
   void occluded(std::span<const Ray> rays, std::span<uint8_t> result) const override {
     if (result.size() < rays.size())
       throw std::invalid_argument("occluded: fewer result slots than rays");
@@ -179,9 +200,40 @@ class BvhIntersector final : public Intersector {
                 [&](const auto& bvh) { closest_batch(bvh, points, max_distance, out.data()); });
   }
 
-  BuildInfo info() const override { return info_; }
+  // memory_bytes counts the leaf-order normals while they are held.
+  BuildInfo info() const override {
+    BuildInfo i = info_;
+    if (leaf_normals_ready_.load(std::memory_order_acquire))
+      i.memory_bytes += leaf_normals_.size() * sizeof(float);
+    return i;
+  }
 
  private:
+  // The unit normal of each triangle in leaf order (HitNormals), for a tree
+  // without the exact vertices: made by its first intersect_normals after a
+  // build or update (12 bytes a triangle, held only when asked for).
+  const float* leaf_normals(const Scene& scene, const LeafTriangles& tris) const {
+    if (leaf_normals_ready_.load(std::memory_order_acquire)) return leaf_normals_.data();
+    const std::lock_guard lock(leaf_normals_mutex_);
+    if (!leaf_normals_ready_.load(std::memory_order_relaxed)) {
+      leaf_normals_.resize(3 * tris.size());
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 16384),
+                        [&](const tbb::blocked_range<size_t>& r) {
+                          for (size_t i = r.begin(); i != r.end(); ++i) {
+                            const PrimRef& ref = tris.refs[i];
+                            triangle_normal(scene.meshes[ref.geom_id], ref.prim_id,
+                                            leaf_normals_.data() + 3 * i);
+                          }
+                        });
+      leaf_normals_ready_.store(true, std::memory_order_release);
+    }
+    return leaf_normals_.data();
+  }
+  void drop_leaf_normals() {
+    leaf_normals_ready_.store(false, std::memory_order_relaxed);
+    leaf_normals_ = {};
+  }
+
   // When a rebuild computes the full tree statistics (compute_tree_stats):
   // after the timed part, as a task beside the flattening (counted where it
   // outlasts it; on 1 thread in full), or not (TreeStats' counts and
@@ -300,6 +352,9 @@ class BvhIntersector final : public Intersector {
   std::optional<HugeBufferRetention> retain_buffers_;  // held once animated
   AutoUpdatePolicy auto_policy_;
   bool time_queries_ = false;
+  mutable std::vector<float> leaf_normals_;  // leaf_normals()
+  mutable std::mutex leaf_normals_mutex_;
+  mutable std::atomic<bool> leaf_normals_ready_{false};
   mutable BusyClock busy_;  // query time since the last update, when time_queries_
 };
 

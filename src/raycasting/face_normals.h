@@ -1,10 +1,11 @@
 #pragma once
-// Unit geometric normals of every triangle of a scene, for the
-// primitive_normals of cast_rays and compute_closest_points.
+// Unit geometric normals of every triangle of a scene (api::Scene::normals),
+// for the primitive_normals of compute_closest_points (cast_rays has the
+// backend write them during the trace).
 //
 // Made once per scene state (the RaycastingScene drops it when triangles are
-// added or moved): a hit's normal is then one 12-byte read of a random
-// triangle instead of an index triple and three vertices, a chain of
+// added or moved): a closest point's normal is then one 12-byte read of a
+// random triangle instead of an index triple and three vertices, a chain of
 // dependent cache misses on a large mesh. 12 bytes per triangle.
 #include <hprt/hprt.h>
 
@@ -17,8 +18,8 @@ namespace hprt::raycasting {
 
 class FaceNormals {
  public:
-  // (b - a) x (c - a) of each triangle, unit length (computed in double);
-  // zero for a degenerate one. Parallel over the triangles.
+  // Each triangle's unit normal, zero for a degenerate one; parallel over
+  // the triangles.
   explicit FaceNormals(const api::Scene& scene);
 
   // Writes the normal of triangle (geom_id(i), prim_id(i)) to out(i) (a

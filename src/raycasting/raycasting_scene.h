@@ -57,7 +57,7 @@ struct SceneInfo {
   std::string backend;  // configuration name, "" before the first build
   double build_ms = 0.0;
   size_t memory_bytes = 0;   // the backend's structure
-  size_t normals_bytes = 0;  // FaceNormals, once cast_rays or compute_closest_points made them
+  size_t normals_bytes = 0;  // FaceNormals, once compute_closest_points made them
   size_t meshes = 0, triangles = 0;
   uint64_t malformed_answers = 0;
 };

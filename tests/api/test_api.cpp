@@ -6,7 +6,10 @@
 #include <hprt/hprt.h>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
+#include <span>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -154,6 +157,69 @@ TEST(Api, DiffOfTwoBackendsAndAPluginThatLies) {
   EXPECT_GE(lies.backend_wrong(), lies.backend_malformed);
   EXPECT_NE(lies.summary.find("FAIL"), std::string::npos);
   EXPECT_THROW(api::make_rays(scene, "sideways", 10), api::Error);
+}
+
+// Scene::normals gives each triangle's unit normal; intersect with normals
+// gives the hit triangle's, the same bits on every backend (a plugin's
+// through the library's own pass), zero on a miss; after update the moved
+// triangles' normals.
+TEST(Api, IntersectWithNormalsOnEveryBackend) {
+  api::Scene scene;
+  Grid g = grid(16);
+  for (size_t i = 0; i < g.vertices.size(); i += 3)  // a saddle: every normal differs
+    g.vertices[i + 2] = 0.3f * g.vertices[i] * g.vertices[i + 1];
+  scene.add_mesh(g.vertices, g.indices);
+  std::vector<float> table(3 * scene.triangle_count());
+  scene.normals(0, table);
+  EXPECT_THROW(scene.normals(0, std::span<float>(table).first(table.size() - 1)),
+               std::invalid_argument);
+  for (size_t t = 0; t < scene.triangle_count(); ++t) {
+    const float* n = &table[3 * t];
+    EXPECT_NEAR(double(n[0]) * n[0] + double(n[1]) * n[1] + double(n[2]) * n[2], 1.0, 1e-6);
+    const uint32_t* idx = &g.indices[3 * t];
+    const float* a = &g.vertices[3 * idx[0]];
+    const float* b = &g.vertices[3 * idx[1]];
+    const float e1[3] = {b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+    EXPECT_NEAR(n[0] * e1[0] + n[1] * e1[1] + n[2] * e1[2], 0.0, 1e-6);  // normal to an edge
+    EXPECT_GT(n[2], 0.0f);  // counter-clockwise from +z
+  }
+  std::vector<api::Ray> rays = api::make_rays(scene, "random", 2000, 6);
+  rays.push_back(down(5.0f, 5.0f));  // a miss
+  api::Backend bvh("bvh"), embree("embree"), good(std::string("plugin:") + HPRT_TEST_PLUGIN_GOOD);
+  for (api::Backend* b : {&bvh, &embree, &good}) {
+    b->build(scene);
+    std::vector<api::Hit> hits(rays.size()), plain(rays.size());
+    std::vector<float> normals(3 * rays.size(), 7.0f);
+    b->intersect(rays, plain);
+    b->intersect(rays, hits, normals);
+    size_t hit = 0;
+    for (size_t i = 0; i < rays.size(); ++i) {
+      ASSERT_EQ(std::memcmp(&hits[i], &plain[i], sizeof(api::Hit)), 0) << b->info().name;
+      const float zero[3] = {0.0f, 0.0f, 0.0f};
+      const float* want = hits[i].prim_id == api::kInvalidId ? zero : &table[3 * hits[i].prim_id];
+      hit += want != zero;
+      ASSERT_EQ(std::memcmp(&normals[3 * i], want, 3 * sizeof(float)), 0)
+          << b->info().name << " ray " << i;
+    }
+    EXPECT_GT(hit, rays.size() / 10) << b->info().name;
+    std::vector<float> too_few(3 * rays.size() - 1);
+    EXPECT_THROW(b->intersect(rays, hits, too_few), std::invalid_argument);
+  }
+  // Moved vertices: after update the hits name the moved triangles' normals.
+  for (size_t i = 0; i < g.vertices.size(); i += 3) g.vertices[i + 2] *= -1.0f;
+  scene.set_vertices(0, g.vertices);
+  scene.normals(0, table);
+  for (api::Backend* b : {&bvh, &embree}) {
+    b->update(scene);
+    std::vector<api::Hit> hits(rays.size());
+    std::vector<float> normals(3 * rays.size());
+    b->intersect(rays, hits, normals);
+    for (size_t i = 0; i < rays.size(); ++i) {
+      if (hits[i].prim_id == api::kInvalidId) continue;
+      ASSERT_EQ(std::memcmp(&normals[3 * i], &table[3 * hits[i].prim_id], 3 * sizeof(float)), 0)
+          << b->info().name << " ray " << i;
+    }
+  }
 }
 
 TEST(Api, SharedMeshesAreNotCopied) {

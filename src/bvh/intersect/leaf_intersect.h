@@ -3,6 +3,7 @@
 // smallest (t, leaf index); the Hit is written once, when the traversal ends.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <type_traits>
 
@@ -11,6 +12,7 @@
 #include "bvh/layout/leaf_triangles.h"
 #include "core/force_inline.h"
 #include "core/hit.h"
+#include "core/triangle_normal.h"
 
 namespace hprt {
 
@@ -22,8 +24,17 @@ struct TraversalStats {
 
 struct ClosestHit {
   bool found = false;
-  uint32_t index = 0;  // leaf-order triangle
+  uint32_t index = 0;                         // leaf-order triangle
+  uint32_t block_first = 0, block_count = 0;  // its verts block (LeafRange)
   TriangleHit best{};
+
+  HPRT_FORCE_INLINE void keep(uint32_t i, const LeafRange& leaf, const TriangleHit& h) {
+    found = true;
+    index = i;
+    block_first = leaf.block_first;
+    block_count = leaf.block_count;
+    best = h;
+  }
 
   // A hit at the closest t so far (a shared edge or vertex) wins only with a
   // lower leaf index, so the answer does not depend on the order in which
@@ -39,6 +50,38 @@ struct ClosestHit {
     hit.geom_id = tris.refs[index].geom_id;
     hit.prim_id = tris.refs[index].prim_id;
   }
+};
+
+// Where a closest-hit batch also writes each ray's hit normal
+// (Intersector::intersect_normals), 3 floats per ray of the batch into
+// `out`, zero on a miss: the unit normal (core/triangle_normal.h) of the
+// exact vertices the watertight test read, whose lines are still in the
+// caches when the ray ends; or, for trees without them (the Möller–Trumbore
+// test's edges do not reproduce the vertices), copied from `table`, the
+// normals in leaf order.
+struct HitNormals {
+  const LeafTriangles* tris = nullptr;
+  const float* table = nullptr;
+  float* out = nullptr;
+
+  HPRT_FORCE_INLINE void prefetch(const ClosestHit& closest) const {
+    if (table) __builtin_prefetch(table + 3 * size_t(closest.index));
+  }
+  HPRT_FORCE_INLINE void write(const ClosestHit& closest, size_t ray) const {
+    float* n = out + 3 * ray;
+    if (!closest.found) {
+      n[0] = n[1] = n[2] = 0.0f;
+    } else if (table) {
+      const float* src = table + 3 * size_t(closest.index);
+      n[0] = src[0], n[1] = src[1], n[2] = src[2];
+    } else {
+      const TriangleVerts v =
+          tris->triangle(LeafRange{0, 0, closest.block_first, closest.block_count}, closest.index);
+      unit_normal(&v.v0.x, &v.v1.x, &v.v2.x, n);
+    }
+  }
+  // The same batch with its rays from `first` on: a packet's (traverse_packet.h).
+  HitNormals from(size_t first) const { return {tris, table, out + 3 * first}; }
 };
 
 #if defined(__AVX512F__) && defined(__AVX512VL__)
@@ -71,9 +114,7 @@ HPRT_FORCE_INLINE bool intersect_leaf_lanes(const WatertightTest::Prepared& prep
     if constexpr (!kAnyHit)
       if (closest.loses_tie(i, t[best])) continue;
     if (!closest.found) __builtin_prefetch(&tris.refs[i]);
-    closest.found = true;
-    closest.index = i;
-    closest.best = TriangleHit{t[best], u[best], v[best]};
+    closest.keep(i, leaf, TriangleHit{t[best], u[best], v[best]});
     if constexpr (kAnyHit) return true;
     tfar = t[best];
   }
@@ -103,9 +144,7 @@ HPRT_FORCE_INLINE bool intersect_leaf(const typename Test::Prepared& prep,
       if constexpr (!kAnyHit)
         if (closest.loses_tie(i, h.t)) continue;
       if (!closest.found) __builtin_prefetch(&tris.refs[i]);  // read once, at the end
-      closest.found = true;
-      closest.index = i;
-      closest.best = h;
+      closest.keep(i, leaf, h);
       if constexpr (kAnyHit) return true;
       tfar = h.t;
     }

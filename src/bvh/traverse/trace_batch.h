@@ -15,6 +15,7 @@
 #include <span>
 
 #include "bvh/input/build_options.h"
+#include "bvh/intersect/leaf_intersect.h"
 #include "bvh/layout/bvh2.h"
 #include "bvh/layout/wide_bvh.h"
 #include "core/hit.h"
@@ -30,12 +31,14 @@ namespace hprt {
 // mostly adds its bookkeeping to each ray (docs/ARCHITECTURE.md section 3).
 inline constexpr size_t kInterleaveMinBytes = size_t{16} << 20;
 
-// Closest hits: hits[i] for rays[i] (hits has at least rays.size() slots).
-void intersect_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays, Hit* hits);
+// Closest hits: hits[i] for rays[i] (hits has at least rays.size() slots),
+// and with `normals` each ray's hit normal (bvh/intersect/leaf_intersect.h).
+void intersect_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays, Hit* hits,
+                     const HitNormals* normals = nullptr);
 void intersect_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                     Hit* hits);
+                     Hit* hits, const HitNormals* normals = nullptr);
 void intersect_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                     Hit* hits);
+                     Hit* hits, const HitNormals* normals = nullptr);
 
 // Any hit: occluded[i] = 1 when rays[i] hits something in its interval, else 0.
 void occluded_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,

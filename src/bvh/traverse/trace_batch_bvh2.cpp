@@ -5,8 +5,9 @@
 
 namespace hprt {
 
-void intersect_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays, Hit* hits) {
-  detail::intersect_batch_any_test(bvh, test, rays, hits);
+void intersect_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays, Hit* hits,
+                     const HitNormals* normals) {
+  detail::intersect_batch_any_test(bvh, test, rays, hits, normals);
 }
 
 void occluded_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,

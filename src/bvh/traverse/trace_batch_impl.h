@@ -34,12 +34,12 @@ inline constexpr size_t kRaysPerTask = 128;
 inline constexpr size_t kRayGroup = 16;
 
 template <typename Test, bool kAnyHit>
-bool trace_one(const Bvh2& bvh, const Ray& ray, Hit& hit) {
-  return traverse<Test, kAnyHit>(bvh, ray, hit);
+bool trace_one(const Bvh2& bvh, const Ray& ray, Hit& hit, ClosestHit* answer = nullptr) {
+  return traverse<Test, kAnyHit>(bvh, ray, hit, nullptr, answer);
 }
 template <typename Test, bool kAnyHit, int N>
-bool trace_one(const WideBvh<N>& bvh, const Ray& ray, Hit& hit) {
-  return traverse_wide<Test, kAnyHit>(bvh, ray, hit);
+bool trace_one(const WideBvh<N>& bvh, const Ray& ray, Hit& hit, ClosestHit* answer = nullptr) {
+  return traverse_wide<Test, kAnyHit>(bvh, ray, hit, nullptr, answer);
 }
 
 // Packets need AVX-512 (traverse_packet.h).
@@ -72,12 +72,14 @@ bool interleaves(const Bvh& bvh) {
     return !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
 }
 
-// kAnyHit writes `occluded`, otherwise `hits`. In a tree of at least
+// kAnyHit writes `occluded`, otherwise `hits` (and the hit normals when
+// `normals` is given: Intersector::intersect_normals). In a tree of at least
 // kInterleaveMinBytes the rays of a task that no packet takes are traced
 // several at a time (traverse_interleaved.h), in runs of up to
 // kInterleavedRun; otherwise ray by ray.
 template <typename Test, bool kAnyHit, typename Bvh>
-void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* occluded) {
+void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* occluded,
+                 const HitNormals* normals = nullptr) {
   constexpr bool kWide = !std::is_same_v<Bvh, Bvh2>;
   constexpr size_t kInterleavedRun = 256;
   const float tolerance = packet_origin_tolerance(bvh);
@@ -90,8 +92,8 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                       const auto flush = [&] {
                         if constexpr (kWide)
                           if (run_size)
-                            traverse_wide_interleaved<Test, kAnyHit>(bvh, rays.data(), run,
-                                                                     run_size, hits, occluded);
+                            traverse_wide_interleaved<Test, kAnyHit>(
+                                bvh, rays.data(), run, run_size, hits, occluded, normals);
                         run_size = 0;
                       };
                       for (size_t g = range.begin(); g != range.end(); ++g) {
@@ -104,8 +106,12 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                             // Only the array this query writes is offset (the other is null).
                             if constexpr (kAnyHit)
                               traverse_packet<Test, true>(bvh, r, nullptr, occluded + first);
-                            else
+                            else if (normals) {
+                              const HitNormals lanes = normals->from(first);
+                              traverse_packet<Test, false>(bvh, r, hits + first, nullptr, &lanes);
+                            } else {
                               traverse_packet<Test, false>(bvh, r, hits + first, nullptr);
+                            }
                             continue;
                           }
                         }
@@ -116,12 +122,16 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                         }
                         for (size_t i = first; i < first + count; ++i) {
                           Hit h;
-                          const bool found =
-                              ray_is_valid(rays[i]) && trace_one<Test, kAnyHit>(bvh, rays[i], h);
-                          if constexpr (kAnyHit)
+                          ClosestHit answer;
+                          const bool found = ray_is_valid(rays[i]) &&
+                                             trace_one<Test, kAnyHit>(bvh, rays[i], h,
+                                                                      normals ? &answer : nullptr);
+                          if constexpr (kAnyHit) {
                             occluded[i] = found;
-                          else
+                          } else {
                             hits[i] = h;
+                            if (normals) normals->write(answer, i);
+                          }
                         }
                       }
                       flush();
@@ -130,11 +140,11 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
 
 template <typename Bvh>
 void intersect_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                              Hit* hits) {
+                              Hit* hits, const HitNormals* normals) {
   if (test == TriangleTestKind::kMoller)
-    trace_batch<MollerTest, false>(bvh, rays, hits, nullptr);
+    trace_batch<MollerTest, false>(bvh, rays, hits, nullptr, normals);
   else
-    trace_batch<WatertightTest, false>(bvh, rays, hits, nullptr);
+    trace_batch<WatertightTest, false>(bvh, rays, hits, nullptr, normals);
 }
 
 template <typename Bvh>

@@ -27,9 +27,12 @@ inline const float* node_floats(const BinaryNode& n) { return &n.min.x; }
 // kAnyHit: return at the first hit in (tnear, tfar] (occlusion); `hit` is then
 // only meaningful as "something was hit". Otherwise `hit` gets the closest hit
 // (t, u, v, geomID, primID in input order) and the result says whether any was
-// found. The ray must be valid (ray_is_valid).
+// found. The ray must be valid (ray_is_valid). A closest-hit traversal also
+// copies its answer, with the hit's leaf-order index, to `answer` if given
+// (left untouched when the ray misses the root box).
 template <typename Test, bool kAnyHit, bool kStats = false>
-bool traverse(const Bvh2& bvh, const Ray& ray, Hit& hit, TraversalStats* stats = nullptr) {
+bool traverse(const Bvh2& bvh, const Ray& ray, Hit& hit, TraversalStats* stats = nullptr,
+              ClosestHit* answer = nullptr) {
   if (bvh.empty()) return false;
   const BinaryNode* nodes = bvh.nodes.data();
   const LeafTriangles& tris = bvh.triangles;
@@ -100,6 +103,7 @@ bool traverse(const Bvh2& bvh, const Ray& ray, Hit& hit, TraversalStats* stats =
     for (;;) {
       if (stack.empty()) {
         if (closest.found) closest.store(tris, hit);
+        if (answer) *answer = closest;
         return closest.found;
       }
       const StackEntry e = stack.pop();

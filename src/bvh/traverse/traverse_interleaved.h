@@ -80,10 +80,12 @@ HPRT_FORCE_INLINE bool take_turn(const WideBvh<N>& bvh, RayInFlight<Test, N>& s)
 
 // Traces rays[order[k]] for k in [0, count) (valid or not: an invalid ray
 // misses), writing hits[i] (closest hit) or occluded[i] (kAnyHit) for each
-// such i, up to kRaysInFlight at a time. The tree must not be empty.
+// such i, up to kRaysInFlight at a time, and the hit normal of ray i when
+// `normals` is given. The tree must not be empty.
 template <typename Test, bool kAnyHit, int N>
 void traverse_wide_interleaved(const WideBvh<N>& bvh, const Ray* rays, const size_t* order,
-                               size_t count, Hit* hits, uint8_t* occluded) {
+                               size_t count, Hit* hits, uint8_t* occluded,
+                               const HitNormals* normals = nullptr) {
   constexpr int K = detail::kRaysInFlight;
   detail::RayInFlight<Test, N> slot[K];
   bool live[K] = {};
@@ -95,10 +97,12 @@ void traverse_wide_interleaved(const WideBvh<N>& bvh, const Ray* rays, const siz
       const size_t i = order[next];
       const Ray& r = rays[i];
       if (!ray_is_valid(r)) {
-        if constexpr (kAnyHit)
+        if constexpr (kAnyHit) {
           occluded[i] = 0;
-        else
+        } else {
           hits[i] = Hit{};
+          if (normals) normals->write(ClosestHit{}, i);
+        }
         continue;
       }
       std::construct_at(&s, r, i, bvh.root, bvh.bounds);
@@ -114,10 +118,11 @@ void traverse_wide_interleaved(const WideBvh<N>& bvh, const Ray* rays, const siz
       Hit h;
       if (s.closest.found) s.closest.store(bvh.triangles, h);
       hits[s.ray] = h;
+      if (normals) normals->write(s.closest, s.ray);
     }
   };
-  // A closest hit's ids are read a turn after the ray ends, their line
-  // requested when it ended (done[k]).
+  // A closest hit's ids (and normal) are read a turn after the ray ends,
+  // their lines requested when it ended (done[k]).
   bool done[K] = {};
   int in_flight = 0;
   for (int k = 0; k < K; ++k) in_flight += (live[k] = start(slot[k]));
@@ -129,6 +134,7 @@ void traverse_wide_interleaved(const WideBvh<N>& bvh, const Ray* rays, const siz
         if constexpr (!kAnyHit)
           if (slot[k].closest.found) {
             __builtin_prefetch(&bvh.triangles.refs[slot[k].closest.index]);
+            if (normals) normals->prefetch(slot[k].closest);
             done[k] = true;
             continue;
           }

@@ -71,20 +71,24 @@ struct alignas(64) PacketStackEntry {
 }  // namespace detail
 
 // Traces rays[0..16), all valid (ray_is_valid). Closest hit: hits[l] is set for
-// every lane (a miss is Hit{}). Any hit: occluded[l] is 1 or 0. `hits` is used
-// only without kAnyHit, `occluded` only with it.
+// every lane (a miss is Hit{}), and the lane's hit normal when `normals` is
+// given (its rays 0..16). Any hit: occluded[l] is 1 or 0. `hits` and
+// `normals` are used only without kAnyHit, `occluded` only with it.
 template <typename Test, bool kAnyHit, typename Bvh>
-void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occluded) {
+void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occluded,
+                     const HitNormals* normals = nullptr) {
   using Nodes = detail::PacketNodes<Bvh>;
   constexpr int N = Nodes::kMaxChildren;
   constexpr float kInf = std::numeric_limits<float>::infinity();
   ClosestHit closest[kPacketSize];
   if (bvh.empty()) {
     for (int l = 0; l < kPacketSize; ++l) {
-      if constexpr (kAnyHit)
+      if constexpr (kAnyHit) {
         occluded[l] = 0;
-      else
+      } else {
         hits[l] = Hit{};
+        if (normals) normals->write(ClosestHit{}, size_t(l));
+      }
     }
     return;
   }
@@ -180,9 +184,7 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
           for (unsigned m = h; m; m &= m - 1) {
             const int l = __builtin_ctz(m);
             if (!kAnyHit && closest[l].loses_tie(i, t[l])) continue;
-            closest[l].found = true;
-            closest[l].index = i;
-            closest[l].best = TriangleHit{t[l], u[l], v[l]};
+            closest[l].keep(i, leaf, TriangleHit{t[l], u[l], v[l]});
             tfar_lane[l] = kAnyHit ? -kInf : t[l];
             if constexpr (kAnyHit) {
               done |= __mmask16(1u << l);
@@ -221,6 +223,7 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
     } else {
       hits[l] = Hit{};
       if (closest[l].found) closest[l].store(tris, hits[l]);
+      if (normals) normals->write(closest[l], size_t(l));
     }
   }
 }

@@ -112,10 +112,11 @@ HPRT_FORCE_INLINE bool traverse_wide_from(const WideBvh<N>& bvh, NodeRef start,
   }
 }
 
-// Same contract as traverse(): the ray must be valid (ray_is_valid).
+// Same contract as traverse() (`answer` included): the ray must be valid
+// (ray_is_valid).
 template <typename Test, bool kAnyHit, int N, bool kStats = false>
-bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
-                   TraversalStats* stats = nullptr) {
+bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit, TraversalStats* stats = nullptr,
+                   ClosestHit* answer = nullptr) {
   if (bvh.empty()) return false;
   const WideSlabRay slab(ray);
   const typename Test::Prepared prep = Test::prepare(ray, bvh.bounds);
@@ -124,6 +125,7 @@ bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit,
   traverse_wide_from<Test, kAnyHit, N, kStats>(bvh, bvh.root, slab, prep, ray.tnear, tfar, closest,
                                                stats);
   if (closest.found) closest.store(bvh.triangles, hit);
+  if (answer) *answer = closest;
   return closest.found;
 }
 
