@@ -112,7 +112,7 @@ class HPRT_API Scene {
   std::span<const uint32_t> indices(uint32_t geom_id) const;
   // The unit geometric normal of each triangle of mesh geom_id, 3 floats per
   // triangle (out.size() >= 3 * its triangle count), as
-  // Backend::intersect with normals reports it for a hit.
+  // Backend::intersect reports it in HitColumns::normal for a hit.
   void normals(uint32_t geom_id, std::span<float> out) const;
   // Bounding box of the finite vertices: min x, y, z, max x, y, z.
   std::array<float, 6> bounds() const;
@@ -122,6 +122,25 @@ class HPRT_API Scene {
 
  private:
   std::unique_ptr<Impl> impl_;
+};
+
+// Closest hits as separate arrays ("columns", as numpy and Open3D users
+// hold them) for Backend::intersect. Each span is empty (not written) or
+// holds at least one entry per ray (uv two, normal three): t (+inf on a
+// miss), geom_id and prim_id (kInvalidId on a miss), uv (u, v; 0 on a miss)
+// and normal, the hit triangle's unit geometric normal: (v1 - v0) x
+// (v2 - v0) of the triangle as added, normalised in double and rounded to
+// float, so every backend gives the same bits (0 on a miss). The bvh
+// backend writes the columns while it traces (the normal from the vertices
+// its test read, or with isect=mt from a table it makes at the first call
+// with normals after a build or update: 12 bytes per triangle); the others
+// trace into records and copy them.
+struct HitColumns {
+  std::span<float> t;
+  std::span<uint32_t> geom_id;
+  std::span<uint32_t> prim_id;
+  std::span<float> uv;
+  std::span<float> normal;
 };
 
 // Backend options by the command line's names, without the dashes:
@@ -163,14 +182,9 @@ class HPRT_API Backend {
   // hits.size() and occluded.size() must be at least rays.size().
   // occluded: 1 when some hit has t in (tnear, tfar], else 0.
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
-  // The same, also writing each hit triangle's unit geometric normal, 3
-  // floats per ray (normals.size() >= 3 * rays.size()): (v1 - v0) x (v2 - v0)
-  // of the triangle as added, normalised in double and rounded to float, so
-  // every backend gives the same bits; zero on a miss or for a triangle of
-  // zero area. The bvh backend reads it during the traversal from a table
-  // it makes at the first such call after a build or update (12 bytes per
-  // triangle); the others compute it from the scene after tracing.
-  void intersect(std::span<const Ray> rays, std::span<Hit> hits, std::span<float> normals) const;
+  // The same answers written as separate arrays (HitColumns) instead of
+  // records, with each hit triangle's normal if asked for.
+  void intersect(std::span<const Ray> rays, const HitColumns& out) const;
   void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
 
   // Surface crossings along each ray in (tnear, tfar]: counts[i] for

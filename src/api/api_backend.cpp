@@ -1,5 +1,6 @@
 #include <cstring>
 #include <stdexcept>
+#include <string>
 
 #include "api/api_errors.h"
 #include "api/api_scene.h"
@@ -55,19 +56,22 @@ void Backend::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
   translate_errors([&] { impl_->run([&] { impl_->built().intersect(r, h); }); });
 }
 
-void Backend::intersect(std::span<const Ray> rays, std::span<Hit> hits,
-                        std::span<float> normals) const {
-  if (hits.size() < rays.size()) throw std::invalid_argument("intersect: fewer hits than rays");
-  if (normals.size() < 3 * rays.size())
-    throw std::invalid_argument("intersect: fewer normals than 3 per ray");
+void Backend::intersect(std::span<const Ray> rays, const HitColumns& out) const {
+  const size_t n = rays.size();
+  const auto column = [n](auto span, size_t per_ray, const char* name) {
+    if (!span.empty() && span.size() < per_ray * n)
+      throw std::invalid_argument(std::string("intersect: column ") + name + " holds fewer than " +
+                                  std::to_string(per_ray) + " per ray");
+    return span.empty() ? nullptr : span.data();
+  };
+  const hprt::HitColumns columns{column(out.t, 1, "t"), column(out.geom_id, 1, "geom_id"),
+                                 column(out.prim_id, 1, "prim_id"), column(out.uv, 2, "uv"),
+                                 column(out.normal, 3, "normal")};
   static const hprt::Scene kNothingBuilt;
   const hprt::Scene& scene = impl_->scene ? *impl_->scene : kNothingBuilt;
-  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
-  const std::span<hprt::Hit> h(reinterpret_cast<hprt::Hit*>(hits.data()), rays.size());
-  translate_errors([&] {
-    impl_->run(
-        [&] { impl_->built().intersect_normals(scene, r, h, normals.first(3 * rays.size())); });
-  });
+  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), n);
+  translate_errors(
+      [&] { impl_->run([&] { impl_->built().intersect_columns(scene, r, columns); }); });
 }
 
 void Backend::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const {

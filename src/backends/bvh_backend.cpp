@@ -141,17 +141,14 @@ class BvhIntersector final : public Intersector {
     });
   }
 
-  void intersect_normals(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits,
-                         std::span<float> normals) const override {
-    if (hits.size() < rays.size() || normals.size() < 3 * rays.size())
-      throw std::invalid_argument("intersect_normals: fewer result slots than rays");
+  void intersect_columns(const Scene& scene, std::span<const Ray> rays,
+                         const HitColumns& out) const override {
     const BusyClock::Scope timed(query_clock());
     with_layout(*this, [&](const auto& bvh) {
       const LeafTriangles& tris = bvh.triangles;
-      const HitNormals out{&tris,
-                           tris.holds(TriangleArrays::kVerts) ? nullptr : leaf_normals(scene, tris),
-                           normals.data()};
-      intersect_batch(bvh, options_.triangle_test, rays, hits.data(), &out);
+      const bool table = out.normal && !tris.holds(TriangleArrays::kVerts);
+      const HitColumnWriter writer{out, &tris, table ? leaf_normals(scene, tris) : nullptr};
+      intersect_batch(bvh, options_.triangle_test, rays, nullptr, &writer);
     });
   }
 
@@ -209,9 +206,10 @@ class BvhIntersector final : public Intersector {
   }
 
  private:
-  // The unit normal of each triangle in leaf order (HitNormals), for a tree
-  // without the exact vertices: made by its first intersect_normals after a
-  // build or update (12 bytes a triangle, held only when asked for).
+  // The unit normal of each triangle in leaf order (HitColumnWriter), for a
+  // tree without the exact vertices: made by its first intersect_columns
+  // with normals after a build or update (12 bytes a triangle, held only
+  // when asked for).
   const float* leaf_normals(const Scene& scene, const LeafTriangles& tris) const {
     if (leaf_normals_ready_.load(std::memory_order_acquire)) return leaf_normals_.data();
     const std::lock_guard lock(leaf_normals_mutex_);

@@ -16,6 +16,7 @@
 
 #include "bvh/input/build_options.h"
 #include "core/hit.h"
+#include "core/hit_columns.h"
 #include "core/hit_lists.h"
 #include "core/point_query.h"
 #include "core/ray.h"
@@ -71,13 +72,13 @@ class Intersector {
   virtual void update(const Scene& scene) = 0;
   virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
   virtual void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const = 0;
-  // Closest hits as intersect(), plus each hit triangle's unit normal
-  // (core/triangle_normal.h), 3 floats per ray into normals (at least 3 *
-  // rays.size()), zero on a miss. `scene` is the one built over. The default
-  // traces, then computes each normal from the scene's vertices; the bvh
-  // backend copies it from a leaf-order table during the traversal.
-  virtual void intersect_normals(const Scene& scene, std::span<const Ray> rays, std::span<Hit> hits,
-                                 std::span<float> normals) const;
+  // Closest hits as intersect() answers them, written as columns
+  // (core/hit_columns.h) with each hit triangle's unit normal
+  // (core/triangle_normal.h); `scene` is the one built over. The default
+  // traces into records, then copies them and computes each normal from the
+  // scene's vertices; the bvh backend writes the columns as it traces.
+  virtual void intersect_columns(const Scene& scene, std::span<const Ray> rays,
+                                 const HitColumns& out) const;
   // Crossings: counts[i] = how many triangles rays[i] hits in (tnear, tfar].
   // The bvh backend's watertight test counts every crossing of a surface
   // exactly once (its fill rule); Embree reports every triangle its test

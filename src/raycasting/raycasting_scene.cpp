@@ -123,9 +123,9 @@ void parallel_ranges(size_t n, F&& f) {
 
 }  // namespace
 
-// Rays go through in chunks: each is converted into a reused buffer, traced
-// (in parallel inside the backend, which writes the normals straight into
-// the output) and written out, so a call touches a few MB of scratch memory
+// Rays go through in chunks: each is converted into a reused buffer and
+// traced (in parallel inside the backend, which writes the answers straight
+// into the output columns), so a call touches a few MB of scratch memory
 // instead of allocating the whole batch twice.
 void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads) {
   check_rays(rays);
@@ -133,24 +133,15 @@ void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& o
   const auto run = [&] {
     const size_t n = rays.size() / 6;
     const auto r = scratch<api::Ray>(std::min(n, kChunk));
-    const auto hits = scratch<api::Hit>(std::min(n, kChunk));
     for (size_t begin = 0; begin < n; begin += kChunk) {
       const size_t count = std::min(kChunk, n - begin);
       convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.get());
-      b.intersect({r.get(), count}, {hits.get(), count},
-                  {out.primitive_normals + 3 * begin, 3 * count});
-      parallel_ranges(count, [&](size_t k0, size_t k1) {
-        for (size_t k = k0; k < k1; ++k) {
-          const api::Hit& h = hits[k];
-          const size_t i = begin + k;
-          const bool hit = h.prim_id != api::kInvalidId;
-          out.t_hit[i] = hit ? h.t : kInf;
-          out.geometry_ids[i] = hit ? h.geom_id : api::kInvalidId;
-          out.primitive_ids[i] = hit ? h.prim_id : api::kInvalidId;
-          out.primitive_uvs[2 * i] = hit ? h.u : 0.0f;
-          out.primitive_uvs[2 * i + 1] = hit ? h.v : 0.0f;
-        }
-      });
+      b.intersect({r.get(), count},
+                  api::HitColumns{{out.t_hit + begin, count},
+                                  {out.geometry_ids + begin, count},
+                                  {out.primitive_ids + begin, count},
+                                  {out.primitive_uvs + 2 * begin, 2 * count},
+                                  {out.primitive_normals + 3 * begin, 3 * count}});
     }
   };
   nthreads > 0 ? in_arena(nthreads, run) : run();

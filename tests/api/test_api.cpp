@@ -159,11 +159,12 @@ TEST(Api, DiffOfTwoBackendsAndAPluginThatLies) {
   EXPECT_THROW(api::make_rays(scene, "sideways", 10), api::Error);
 }
 
-// Scene::normals gives each triangle's unit normal; intersect with normals
-// gives the hit triangle's, the same bits on every backend (a plugin's
-// through the library's own pass), zero on a miss; after update the moved
-// triangles' normals.
-TEST(Api, IntersectWithNormalsOnEveryBackend) {
+// Scene::normals gives each triangle's unit normal; intersect into columns
+// gives the records' answers and the hit triangle's normal, the same bits on
+// every backend (a plugin's through the library's own pass; its malformed
+// answers are misses), zero on a miss; any column may be left out; a short
+// column throws; after update the moved triangles' normals.
+TEST(Api, IntersectIntoColumnsOnEveryBackend) {
   api::Scene scene;
   Grid g = grid(16);
   for (size_t i = 0; i < g.vertices.size(); i += 3)  // a saddle: every normal differs
@@ -186,37 +187,73 @@ TEST(Api, IntersectWithNormalsOnEveryBackend) {
   std::vector<api::Ray> rays = api::make_rays(scene, "random", 2000, 6);
   rays.push_back(down(5.0f, 5.0f));  // a miss
   api::Backend bvh("bvh"), embree("embree"), good(std::string("plugin:") + HPRT_TEST_PLUGIN_GOOD);
+  const size_t n = rays.size();
+  struct Columns {
+    std::vector<float> t, uv, normal;
+    std::vector<uint32_t> geom, prim;
+    explicit Columns(size_t n)
+        : t(n, 7.0f), uv(2 * n, 7.0f), normal(3 * n, 7.0f), geom(n, 7), prim(n, 7) {}
+    api::HitColumns all() { return {t, geom, prim, uv, normal}; }
+  };
   for (api::Backend* b : {&bvh, &embree, &good}) {
     b->build(scene);
-    std::vector<api::Hit> hits(rays.size()), plain(rays.size());
-    std::vector<float> normals(3 * rays.size(), 7.0f);
+    std::vector<api::Hit> plain(n);
     b->intersect(rays, plain);
-    b->intersect(rays, hits, normals);
+    Columns c(n), some(n);
+    b->intersect(rays, c.all());
+    b->intersect(rays, api::HitColumns{{}, {}, some.prim, {}, some.normal});
     size_t hit = 0;
-    for (size_t i = 0; i < rays.size(); ++i) {
-      ASSERT_EQ(std::memcmp(&hits[i], &plain[i], sizeof(api::Hit)), 0) << b->info().name;
+    for (size_t i = 0; i < n; ++i) {
+      const api::Hit column{c.t[i], c.uv[2 * i], c.uv[2 * i + 1], c.geom[i], c.prim[i]};
+      ASSERT_EQ(std::memcmp(&column, &plain[i], sizeof(api::Hit)), 0) << b->info().name;
+      ASSERT_EQ(some.prim[i], plain[i].prim_id);
+      ASSERT_EQ(some.t[i], 7.0f);  // not asked for: untouched
       const float zero[3] = {0.0f, 0.0f, 0.0f};
-      const float* want = hits[i].prim_id == api::kInvalidId ? zero : &table[3 * hits[i].prim_id];
+      const float* want = plain[i].prim_id == api::kInvalidId ? zero : &table[3 * plain[i].prim_id];
       hit += want != zero;
-      ASSERT_EQ(std::memcmp(&normals[3 * i], want, 3 * sizeof(float)), 0)
+      ASSERT_EQ(std::memcmp(&c.normal[3 * i], want, 3 * sizeof(float)), 0)
           << b->info().name << " ray " << i;
+      ASSERT_EQ(std::memcmp(&some.normal[3 * i], want, 3 * sizeof(float)), 0);
     }
-    EXPECT_GT(hit, rays.size() / 10) << b->info().name;
-    std::vector<float> too_few(3 * rays.size() - 1);
-    EXPECT_THROW(b->intersect(rays, hits, too_few), std::invalid_argument);
+    EXPECT_GT(hit, n / 10) << b->info().name;
+    for (int k = 0; k < 5; ++k) {  // each column one entry short
+      Columns s(n);
+      api::HitColumns cols = s.all();
+      std::span<float>* floats[] = {&cols.t, &cols.uv, &cols.normal};
+      std::span<uint32_t>* ids[] = {&cols.geom_id, &cols.prim_id};
+      if (k < 3)
+        *floats[k] = floats[k]->first(floats[k]->size() - 1);
+      else
+        *ids[k - 3] = ids[k - 3]->first(n - 1);
+      EXPECT_THROW(b->intersect(rays, cols), std::invalid_argument) << k;
+    }
   }
+  // A plugin's malformed answers (t = NaN in a record) are misses in columns.
+  api::Backend bad(std::string("plugin:") + HPRT_TEST_PLUGIN_MALFORMED);
+  bad.build(scene);
+  std::vector<api::Hit> records(n);
+  bad.intersect(rays, records);
+  Columns c(n);
+  bad.intersect(rays, c.all());
+  size_t malformed = 0;
+  for (size_t i = 0; i < n; ++i) {
+    if (!std::isnan(records[i].t) || records[i].prim_id != api::kInvalidId) continue;
+    ++malformed;
+    EXPECT_TRUE(std::isinf(c.t[i]) && c.prim[i] == api::kInvalidId && c.geom[i] == api::kInvalidId);
+    EXPECT_TRUE(c.normal[3 * i] == 0.0f && c.uv[2 * i] == 0.0f);
+  }
+  EXPECT_GT(malformed, 0u);
   // Moved vertices: after update the hits name the moved triangles' normals.
   for (size_t i = 0; i < g.vertices.size(); i += 3) g.vertices[i + 2] *= -1.0f;
   scene.set_vertices(0, g.vertices);
   scene.normals(0, table);
   for (api::Backend* b : {&bvh, &embree}) {
     b->update(scene);
-    std::vector<api::Hit> hits(rays.size());
-    std::vector<float> normals(3 * rays.size());
-    b->intersect(rays, hits, normals);
-    for (size_t i = 0; i < rays.size(); ++i) {
-      if (hits[i].prim_id == api::kInvalidId) continue;
-      ASSERT_EQ(std::memcmp(&normals[3 * i], &table[3 * hits[i].prim_id], 3 * sizeof(float)), 0)
+    Columns moved(n);
+    b->intersect(rays, moved.all());
+    for (size_t i = 0; i < n; ++i) {
+      if (moved.prim[i] == api::kInvalidId) continue;
+      ASSERT_EQ(std::memcmp(&moved.normal[3 * i], &table[3 * moved.prim[i]], 3 * sizeof(float)), 0)
           << b->info().name << " ray " << i;
     }
   }

@@ -2,8 +2,8 @@
 // ray bit for bit as traverse_wide does alone, closest and any hit, and
 // report every hit of each ray as traverse_all does
 // (traverse_all_interleaved.h), in both wide layouts and for both triangle
-// tests, with the hit normals when asked (the scene's own triangle's, from
-// the vertices or the leaf-order table): whatever order and number of
+// tests, also as columns with the hit normals (the scene's own triangle's,
+// from the vertices or the leaf-order table): whatever order and number of
 // rays it is given (fewer than the slots, one, none), with invalid rays,
 // bounded intervals, a tree that is a single leaf, and rays that end while
 // others are still in flight. It writes exactly the rays it is given.
@@ -47,7 +47,7 @@ std::vector<Ray> mixed_rays(const AABB& box, size_t n, uint64_t seed) {
   return rays;
 }
 
-// The leaf-order normal table HitNormals reads for trees without vertices.
+// The leaf-order normal table HitColumnWriter reads for trees without vertices.
 template <int N>
 std::vector<float> normal_table(const WideBvh<N>& bvh, const Scene& scene) {
   std::vector<float> table(3 * bvh.triangles.size());
@@ -58,23 +58,28 @@ std::vector<float> normal_table(const WideBvh<N>& bvh, const Scene& scene) {
   return table;
 }
 
-// Closest hits, with and without normals (the same hits), and any hits, of
-// the rays in `order`: each as traverse_wide alone answers it, the normal
-// that of the scene's own triangle (bit for bit), zero on a miss.
+// Closest hits as records and as columns with normals (the same answers),
+// and any hits, of the rays in `order`: each as traverse_wide alone answers
+// it, the normal that of the scene's own triangle (bit for bit), zero on a
+// miss; nothing written for the other rays.
 template <typename Test, int N>
 void expect_same_as_alone(const WideBvh<N>& bvh, const Scene& scene, const std::vector<Ray>& rays,
                           const std::vector<size_t>& order) {
   const Hit sentinel{42.0f, 0.5f, 0.5f, 7, 7};
-  std::vector<Hit> hits(rays.size(), sentinel), with_normals(rays.size(), sentinel);
+  std::vector<Hit> hits(rays.size(), sentinel);
   std::vector<uint8_t> occluded(rays.size(), 9);
   traverse_wide_interleaved<Test, false>(bvh, rays.data(), order.data(), order.size(), hits.data(),
                                          nullptr);
   const bool has_verts = bvh.triangles.holds(TriangleArrays::kVerts);
   const std::vector<float> table = has_verts ? std::vector<float>() : normal_table(bvh, scene);
-  std::vector<float> normals(3 * rays.size(), 5.0f);
-  const HitNormals out{&bvh.triangles, has_verts ? nullptr : table.data(), normals.data()};
-  traverse_wide_interleaved<Test, false>(bvh, rays.data(), order.data(), order.size(),
-                                         with_normals.data(), nullptr, &out);
+  std::vector<float> t(rays.size(), 5.0f), uv(2 * rays.size(), 5.0f),
+      normals(3 * rays.size(), 5.0f);
+  std::vector<uint32_t> geom(rays.size(), 5), prim(rays.size(), 5);
+  const HitColumnWriter out{{t.data(), geom.data(), prim.data(), uv.data(), normals.data()},
+                            &bvh.triangles,
+                            has_verts ? nullptr : table.data()};
+  traverse_wide_interleaved<Test, false>(bvh, rays.data(), order.data(), order.size(), nullptr,
+                                         nullptr, &out);
   traverse_wide_interleaved<Test, true>(bvh, rays.data(), order.data(), order.size(), nullptr,
                                         occluded.data());
   std::vector<bool> given(rays.size(), false);
@@ -82,9 +87,10 @@ void expect_same_as_alone(const WideBvh<N>& bvh, const Scene& scene, const std::
   size_t hit_count = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     const float* n = &normals[3 * i];
+    const Hit column{t[i], uv[2 * i], uv[2 * i + 1], geom[i], prim[i]};
     if (!given[i]) {  // untouched
       ASSERT_TRUE(same_hit(hits[i], sentinel)) << "ray " << i;
-      ASSERT_TRUE(same_hit(with_normals[i], sentinel)) << "ray " << i;
+      ASSERT_TRUE(same_hit(column, Hit{5.0f, 5.0f, 5.0f, 5, 5})) << "ray " << i;
       ASSERT_EQ(occluded[i], 9) << "ray " << i;
       ASSERT_TRUE(n[0] == 5.0f && n[1] == 5.0f && n[2] == 5.0f) << "ray " << i;
       continue;
@@ -94,7 +100,7 @@ void expect_same_as_alone(const WideBvh<N>& bvh, const Scene& scene, const std::
     if (valid) traverse_wide<Test, false>(bvh, rays[i], want);
     const bool occ = valid && traverse_wide<Test, true>(bvh, rays[i], any);
     ASSERT_TRUE(same_hit(hits[i], want)) << "ray " << i;
-    ASSERT_TRUE(same_hit(with_normals[i], want)) << "ray " << i;
+    ASSERT_TRUE(same_hit(column, want)) << "ray " << i;
     float expected[3] = {0.0f, 0.0f, 0.0f};
     if (want.hit()) triangle_normal(scene.meshes[want.geom_id], want.prim_id, expected);
     ASSERT_EQ(std::memcmp(n, expected, sizeof expected), 0)

@@ -12,6 +12,7 @@
 #include "bvh/layout/leaf_triangles.h"
 #include "core/force_inline.h"
 #include "core/hit.h"
+#include "core/hit_columns.h"
 #include "core/triangle_normal.h"
 
 namespace hprt {
@@ -52,36 +53,42 @@ struct ClosestHit {
   }
 };
 
-// Where a closest-hit batch also writes each ray's hit normal
-// (Intersector::intersect_normals), 3 floats per ray of the batch into
-// `out`, zero on a miss: the unit normal (core/triangle_normal.h) of the
-// exact vertices the watertight test read, whose lines are still in the
-// caches when the ray ends; or, for trees without them (the Möller–Trumbore
-// test's edges do not reproduce the vertices), copied from `table`, the
-// normals in leaf order.
-struct HitNormals {
+// A closest-hit batch's answers written as columns (core/hit_columns.h)
+// instead of Hit records, when the traversal ends each ray. The normal is
+// the unit normal (core/triangle_normal.h) of the exact vertices the
+// watertight test read, whose lines are still in the caches then; or, for
+// trees without them (the Möller–Trumbore test's edges do not reproduce the
+// vertices), copied from `table`, the normals in leaf order.
+struct HitColumnWriter {
+  HitColumns out;
   const LeafTriangles* tris = nullptr;
   const float* table = nullptr;
-  float* out = nullptr;
 
   HPRT_FORCE_INLINE void prefetch(const ClosestHit& closest) const {
     if (table) __builtin_prefetch(table + 3 * size_t(closest.index));
   }
   HPRT_FORCE_INLINE void write(const ClosestHit& closest, size_t ray) const {
-    float* n = out + 3 * ray;
     if (!closest.found) {
-      n[0] = n[1] = n[2] = 0.0f;
-    } else if (table) {
-      const float* src = table + 3 * size_t(closest.index);
-      n[0] = src[0], n[1] = src[1], n[2] = src[2];
-    } else {
-      const TriangleVerts v =
-          tris->triangle(LeafRange{0, 0, closest.block_first, closest.block_count}, closest.index);
-      unit_normal(&v.v0.x, &v.v1.x, &v.v2.x, n);
+      out.write_miss(ray);
+      return;
     }
+    Hit h;
+    closest.store(*tris, h);
+    float n[3] = {0.0f, 0.0f, 0.0f};
+    if (out.normal) {
+      if (table) {
+        const float* src = table + 3 * size_t(closest.index);
+        n[0] = src[0], n[1] = src[1], n[2] = src[2];
+      } else {
+        const TriangleVerts v = tris->triangle(
+            LeafRange{0, 0, closest.block_first, closest.block_count}, closest.index);
+        unit_normal(&v.v0.x, &v.v1.x, &v.v2.x, n);
+      }
+    }
+    out.write(ray, h, n);
   }
   // The same batch with its rays from `first` on: a packet's (traverse_packet.h).
-  HitNormals from(size_t first) const { return {tris, table, out + 3 * first}; }
+  HitColumnWriter from(size_t first) const { return {out.from(first), tris, table}; }
 };
 
 #if defined(__AVX512F__) && defined(__AVX512VL__)

@@ -32,13 +32,13 @@ namespace hprt {
 inline constexpr size_t kInterleaveMinBytes = size_t{16} << 20;
 
 // Closest hits: hits[i] for rays[i] (hits has at least rays.size() slots),
-// and with `normals` each ray's hit normal (bvh/intersect/leaf_intersect.h).
+// or with `columns` written there instead (hits unused: null).
 void intersect_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays, Hit* hits,
-                     const HitNormals* normals = nullptr);
+                     const HitColumnWriter* columns = nullptr);
 void intersect_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                     Hit* hits, const HitNormals* normals = nullptr);
+                     Hit* hits, const HitColumnWriter* columns = nullptr);
 void intersect_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                     Hit* hits, const HitNormals* normals = nullptr);
+                     Hit* hits, const HitColumnWriter* columns = nullptr);
 
 // Any hit: occluded[i] = 1 when rays[i] hits something in its interval, else 0.
 void occluded_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,

@@ -6,8 +6,8 @@
 namespace hprt {
 
 void intersect_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                     Hit* hits, const HitNormals* normals) {
-  detail::intersect_batch_any_test(bvh, test, rays, hits, normals);
+                     Hit* hits, const HitColumnWriter* columns) {
+  detail::intersect_batch_any_test(bvh, test, rays, hits, columns);
 }
 
 void occluded_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,

@@ -72,14 +72,14 @@ bool interleaves(const Bvh& bvh) {
     return !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
 }
 
-// kAnyHit writes `occluded`, otherwise `hits` (and the hit normals when
-// `normals` is given: Intersector::intersect_normals). In a tree of at least
+// kAnyHit writes `occluded`, otherwise `hits`, or `columns` instead when
+// given (Intersector::intersect_columns). In a tree of at least
 // kInterleaveMinBytes the rays of a task that no packet takes are traced
 // several at a time (traverse_interleaved.h), in runs of up to
 // kInterleavedRun; otherwise ray by ray.
 template <typename Test, bool kAnyHit, typename Bvh>
 void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* occluded,
-                 const HitNormals* normals = nullptr) {
+                 const HitColumnWriter* columns = nullptr) {
   constexpr bool kWide = !std::is_same_v<Bvh, Bvh2>;
   constexpr size_t kInterleavedRun = 256;
   const float tolerance = packet_origin_tolerance(bvh);
@@ -93,7 +93,7 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                         if constexpr (kWide)
                           if (run_size)
                             traverse_wide_interleaved<Test, kAnyHit>(
-                                bvh, rays.data(), run, run_size, hits, occluded, normals);
+                                bvh, rays.data(), run, run_size, hits, occluded, columns);
                         run_size = 0;
                       };
                       for (size_t g = range.begin(); g != range.end(); ++g) {
@@ -106,9 +106,9 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                             // Only the array this query writes is offset (the other is null).
                             if constexpr (kAnyHit)
                               traverse_packet<Test, true>(bvh, r, nullptr, occluded + first);
-                            else if (normals) {
-                              const HitNormals lanes = normals->from(first);
-                              traverse_packet<Test, false>(bvh, r, hits + first, nullptr, &lanes);
+                            else if (columns) {
+                              const HitColumnWriter lanes = columns->from(first);
+                              traverse_packet<Test, false>(bvh, r, nullptr, nullptr, &lanes);
                             } else {
                               traverse_packet<Test, false>(bvh, r, hits + first, nullptr);
                             }
@@ -125,13 +125,13 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
                           ClosestHit answer;
                           const bool found = ray_is_valid(rays[i]) &&
                                              trace_one<Test, kAnyHit>(bvh, rays[i], h,
-                                                                      normals ? &answer : nullptr);
-                          if constexpr (kAnyHit) {
+                                                                      columns ? &answer : nullptr);
+                          if constexpr (kAnyHit)
                             occluded[i] = found;
-                          } else {
+                          else if (columns)
+                            columns->write(answer, i);
+                          else
                             hits[i] = h;
-                            if (normals) normals->write(answer, i);
-                          }
                         }
                       }
                       flush();
@@ -140,11 +140,11 @@ void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* 
 
 template <typename Bvh>
 void intersect_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                              Hit* hits, const HitNormals* normals) {
+                              Hit* hits, const HitColumnWriter* columns) {
   if (test == TriangleTestKind::kMoller)
-    trace_batch<MollerTest, false>(bvh, rays, hits, nullptr, normals);
+    trace_batch<MollerTest, false>(bvh, rays, hits, nullptr, columns);
   else
-    trace_batch<WatertightTest, false>(bvh, rays, hits, nullptr, normals);
+    trace_batch<WatertightTest, false>(bvh, rays, hits, nullptr, columns);
 }
 
 template <typename Bvh>

@@ -80,12 +80,12 @@ HPRT_FORCE_INLINE bool take_turn(const WideBvh<N>& bvh, RayInFlight<Test, N>& s)
 
 // Traces rays[order[k]] for k in [0, count) (valid or not: an invalid ray
 // misses), writing hits[i] (closest hit) or occluded[i] (kAnyHit) for each
-// such i, up to kRaysInFlight at a time, and the hit normal of ray i when
-// `normals` is given. The tree must not be empty.
+// such i, up to kRaysInFlight at a time; with `columns` the closest hits go
+// there instead of `hits`. The tree must not be empty.
 template <typename Test, bool kAnyHit, int N>
 void traverse_wide_interleaved(const WideBvh<N>& bvh, const Ray* rays, const size_t* order,
                                size_t count, Hit* hits, uint8_t* occluded,
-                               const HitNormals* normals = nullptr) {
+                               const HitColumnWriter* columns = nullptr) {
   constexpr int K = detail::kRaysInFlight;
   detail::RayInFlight<Test, N> slot[K];
   bool live[K] = {};
@@ -99,9 +99,10 @@ void traverse_wide_interleaved(const WideBvh<N>& bvh, const Ray* rays, const siz
       if (!ray_is_valid(r)) {
         if constexpr (kAnyHit) {
           occluded[i] = 0;
+        } else if (columns) {
+          columns->out.write_miss(i);
         } else {
           hits[i] = Hit{};
-          if (normals) normals->write(ClosestHit{}, i);
         }
         continue;
       }
@@ -114,11 +115,12 @@ void traverse_wide_interleaved(const WideBvh<N>& bvh, const Ray* rays, const siz
   const auto finish = [&](const detail::RayInFlight<Test, N>& s) {
     if constexpr (kAnyHit) {
       occluded[s.ray] = s.closest.found;
+    } else if (columns) {
+      columns->write(s.closest, s.ray);
     } else {
       Hit h;
       if (s.closest.found) s.closest.store(bvh.triangles, h);
       hits[s.ray] = h;
-      if (normals) normals->write(s.closest, s.ray);
     }
   };
   // A closest hit's ids (and normal) are read a turn after the ray ends,
@@ -134,7 +136,7 @@ void traverse_wide_interleaved(const WideBvh<N>& bvh, const Ray* rays, const siz
         if constexpr (!kAnyHit)
           if (slot[k].closest.found) {
             __builtin_prefetch(&bvh.triangles.refs[slot[k].closest.index]);
-            if (normals) normals->prefetch(slot[k].closest);
+            if (columns) columns->prefetch(slot[k].closest);
             done[k] = true;
             continue;
           }

@@ -71,12 +71,12 @@ struct alignas(64) PacketStackEntry {
 }  // namespace detail
 
 // Traces rays[0..16), all valid (ray_is_valid). Closest hit: hits[l] is set for
-// every lane (a miss is Hit{}), and the lane's hit normal when `normals` is
-// given (its rays 0..16). Any hit: occluded[l] is 1 or 0. `hits` and
-// `normals` are used only without kAnyHit, `occluded` only with it.
+// every lane (a miss is Hit{}), or with `columns` (rays 0..16 of it) the
+// lane's answer there instead. Any hit: occluded[l] is 1 or 0. `hits` and
+// `columns` are used only without kAnyHit, `occluded` only with it.
 template <typename Test, bool kAnyHit, typename Bvh>
 void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occluded,
-                     const HitNormals* normals = nullptr) {
+                     const HitColumnWriter* columns = nullptr) {
   using Nodes = detail::PacketNodes<Bvh>;
   constexpr int N = Nodes::kMaxChildren;
   constexpr float kInf = std::numeric_limits<float>::infinity();
@@ -85,9 +85,10 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
     for (int l = 0; l < kPacketSize; ++l) {
       if constexpr (kAnyHit) {
         occluded[l] = 0;
+      } else if (columns) {
+        columns->out.write_miss(size_t(l));
       } else {
         hits[l] = Hit{};
-        if (normals) normals->write(ClosestHit{}, size_t(l));
       }
     }
     return;
@@ -220,10 +221,11 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
   for (int l = 0; l < kPacketSize; ++l) {
     if constexpr (kAnyHit) {
       occluded[l] = (done >> l) & 1;
+    } else if (columns) {
+      columns->write(closest[l], size_t(l));
     } else {
       hits[l] = Hit{};
       if (closest[l].found) closest[l].store(tris, hits[l]);
-      if (normals) normals->write(closest[l], size_t(l));
     }
   }
 }
