@@ -153,10 +153,12 @@ struct HitColumns {
 using Options = std::map<std::string, std::string>;
 
 struct BackendInfo {
-  std::string name;         // configuration, e.g. "bvh/parallel/watertight", "embree/medium"
-  double build_ms = 0.0;    // the last build() or update()
-  size_t memory_bytes = 0;  // the acceleration structure (0 for plugins: ABI v1 has no report)
-  bool rebuilt = true;      // update(): rebuilt rather than refitted
+  std::string name;       // configuration, e.g. "bvh/parallel/watertight", "embree/medium"
+  double build_ms = 0.0;  // the last build() or update()
+  // The acceleration structure (0 for plugins: ABI v1 has no report), and
+  // the bvh backend's normal table while it holds one (HitColumns).
+  size_t memory_bytes = 0;
+  bool rebuilt = true;             // update(): rebuilt rather than refitted
   uint64_t malformed_answers = 0;  // plugins: answers that failed hprt's checks so far
 };
 

@@ -22,8 +22,9 @@ struct Backend::Impl {
   // Set when the options name a thread count; else work runs in the
   // caller's arena.
   std::unique_ptr<tbb::task_arena> arena;
-  // The scene of the last build() or update(): intersect with normals reads
-  // its triangles (Intersector::intersect_normals).
+  // The scene of the last build() or update(): intersect into columns reads
+  // its triangles for the normals (Intersector::intersect_columns: Embree,
+  // plugins, and the bvh backend's table with isect=mt).
   const hprt::Scene* scene = nullptr;
 
   template <typename F>

@@ -9,6 +9,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <atomic>
@@ -215,14 +216,18 @@ class BvhIntersector final : public Intersector {
     const std::lock_guard lock(leaf_normals_mutex_);
     if (!leaf_normals_ready_.load(std::memory_order_relaxed)) {
       leaf_normals_.resize(3 * tris.size());
-      tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 16384),
-                        [&](const tbb::blocked_range<size_t>& r) {
-                          for (size_t i = r.begin(); i != r.end(); ++i) {
-                            const PrimRef& ref = tris.refs[i];
-                            triangle_normal(scene.meshes[ref.geom_id], ref.prim_id,
-                                            leaf_normals_.data() + 3 * i);
-                          }
-                        });
+      // Isolated: while this thread waits for the loop under the lock, it
+      // must not take up another task of the caller's that would lock again.
+      tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<size_t>(0, tris.size(), 16384),
+                          [&](const tbb::blocked_range<size_t>& r) {
+                            for (size_t i = r.begin(); i != r.end(); ++i) {
+                              const PrimRef& ref = tris.refs[i];
+                              triangle_normal(scene.meshes[ref.geom_id], ref.prim_id,
+                                              leaf_normals_.data() + 3 * i);
+                            }
+                          });
+      });
       leaf_normals_ready_.store(true, std::memory_order_release);
     }
     return leaf_normals_.data();

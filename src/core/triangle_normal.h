@@ -1,5 +1,6 @@
 // A triangle's unit geometric normal, the one every normal hprt reports is
-// (RaycastingScene's primitive_normals, the backends' intersect_normals):
+// (Intersector::intersect_columns, api::Scene::normals, and through them
+// RaycastingScene's primitive_normals):
 // (b - a) x (c - a) computed in double and normalised, then rounded to
 // float, so every backend and layout gives the same bits; zero for a
 // degenerate triangle.

@@ -319,6 +319,7 @@ api::DiffReport RaycastingScene::validate_rays(std::span<const float> rays,
 }
 
 SceneInfo RaycastingScene::info() const {
+  const std::lock_guard lock(prepare_);
   SceneInfo i;
   i.meshes = scene_.mesh_count();
   i.triangles = scene_.triangle_count();

@@ -123,8 +123,9 @@ class RaycastingScene {
   std::unique_ptr<FaceNormals> normals_;  // the triangles' normals, null when stale
   // Queries may run at once from several threads (the Python module releases
   // the GIL); the first after a change builds the backend and normals under
-  // this lock. Adding or moving triangles must not overlap a query.
-  std::mutex prepare_;
+  // this lock (info() takes it too, not to read a backend being rebuilt).
+  // Adding or moving triangles must not overlap a query.
+  mutable std::mutex prepare_;
 };
 
 // Open3D's create_rays_pinhole: rays (height, width, 6) from the camera at

@@ -199,15 +199,18 @@ TEST(Api, IntersectIntoColumnsOnEveryBackend) {
     b->build(scene);
     std::vector<api::Hit> plain(n);
     b->intersect(rays, plain);
-    Columns c(n), some(n);
+    // `some`: two columns, each one entry longer than needed: the extra
+    // entry stays untouched.
+    Columns c(n), some(n + 1);
     b->intersect(rays, c.all());
     b->intersect(rays, api::HitColumns{{}, {}, some.prim, {}, some.normal});
+    EXPECT_EQ(some.prim[n], 7u);
+    EXPECT_TRUE(some.normal[3 * n] == 7.0f && some.normal[3 * n + 2] == 7.0f);
     size_t hit = 0;
     for (size_t i = 0; i < n; ++i) {
       const api::Hit column{c.t[i], c.uv[2 * i], c.uv[2 * i + 1], c.geom[i], c.prim[i]};
       ASSERT_EQ(std::memcmp(&column, &plain[i], sizeof(api::Hit)), 0) << b->info().name;
       ASSERT_EQ(some.prim[i], plain[i].prim_id);
-      ASSERT_EQ(some.t[i], 7.0f);  // not asked for: untouched
       const float zero[3] = {0.0f, 0.0f, 0.0f};
       const float* want = plain[i].prim_id == api::kInvalidId ? zero : &table[3 * plain[i].prim_id];
       hit += want != zero;
