@@ -315,7 +315,10 @@ PYBIND11_MODULE(hprt, m) {
       .def("update_triangles", &update_triangles, py::arg("geometry_id"),
            py::arg("vertex_positions"), "moved vertices of a geometry (same count)")
       .def("cast_rays", &cast_rays, py::arg("rays"), py::arg("nthreads") = 0,
-           "closest hits of (..., 6) rays [ox, oy, oz, dx, dy, dz]")
+           "closest hits of (..., 6) rays [ox, oy, oz, dx, dy, dz]: a dict of t_hit (inf on a "
+           "miss), geometry_ids and primitive_ids (INVALID_ID on a miss), primitive_uvs (..., 2) "
+           "and primitive_normals (..., 3): the hit triangle's unit normal (v1 - v0) x (v2 - v0), "
+           "the same bits on every backend, 0 on a miss")
       .def("test_occlusions", &test_occlusions, py::arg("rays"), py::arg("tnear") = 0.0f,
            py::arg("tfar") = std::numeric_limits<float>::infinity(), py::arg("nthreads") = 0,
            "whether anything is hit with t in (tnear, tfar] along each ray")
