@@ -90,17 +90,49 @@ api::Options options_of(const py::kwargs& kwargs) {
   return o;
 }
 
-// A scene and the arrays it shares (kept alive here per geometry).
+// A scene, the arrays it shares (kept alive here per geometry), and the
+// memory its queries' result arrays come from (api::ResultMemory: a call
+// repeated after the last call's results were freed reuses their pages).
 struct PyScene {
   std::unique_ptr<rc::RaycastingScene> scene;
   std::map<uint32_t, std::pair<py::object, py::object>> kept;
+  std::shared_ptr<api::ResultMemory> results = std::make_shared<api::ResultMemory>();
 };
+
+// A fresh, uninitialised C-contiguous array from the scene's result memory;
+// its block goes back there when numpy frees the array (the block's owner
+// shares the ResultMemory, so a result may outlive its scene).
+template <typename T>
+py::array_t<T> result_array(const PyScene& s, const std::vector<py::ssize_t>& shape) {
+  struct Block {
+    std::shared_ptr<api::ResultMemory> memory;
+    void* p;
+  };
+  const auto free_block = [](void* b) {
+    const auto* block = static_cast<Block*>(b);
+    block->memory->release(block->p);
+    delete block;
+  };
+  size_t n = 1;
+  for (const py::ssize_t d : shape) n *= size_t(d);
+  auto* block = new Block{s.results, nullptr};
+  py::capsule owner;
+  try {
+    block->p = s.results->acquire(n * sizeof(T));
+    owner = py::capsule(block, free_block);
+  } catch (...) {
+    free_block(block);
+    throw;
+  }
+  return py::array_t<T>(shape, static_cast<T*>(block->p), owner);
+}
 
 py::dict cast_rays(PyScene& s, const py::handle& rays_in, int nthreads) {
   const FloatArray rays = float_array(rays_in, "rays", 6);
   const std::vector<py::ssize_t> shape = leading(rays);
-  FloatArray t(shape), uvs(with_last(shape, 2)), normals(with_last(shape, 3));
-  IdArray geom(shape), prim(shape);
+  auto t = result_array<float>(s, shape), uvs = result_array<float>(s, with_last(shape, 2)),
+       normals = result_array<float>(s, with_last(shape, 3));
+  auto geom = result_array<uint32_t>(s, shape), prim = result_array<uint32_t>(s, shape);
   const rc::CastOutput out{t.mutable_data(), geom.mutable_data(), prim.mutable_data(),
                            uvs.mutable_data(), normals.mutable_data()};
   {
@@ -119,7 +151,7 @@ py::dict cast_rays(PyScene& s, const py::handle& rays_in, int nthreads) {
 py::array test_occlusions(PyScene& s, const py::handle& rays_in, float tnear, float tfar,
                           int nthreads) {
   const FloatArray rays = float_array(rays_in, "rays", 6);
-  py::array_t<bool> occluded(leading(rays));
+  auto occluded = result_array<bool>(s, leading(rays));
   static_assert(sizeof(bool) == 1);
   {
     py::gil_scoped_release nogil;
@@ -131,7 +163,7 @@ py::array test_occlusions(PyScene& s, const py::handle& rays_in, float tnear, fl
 
 py::array count_intersections(PyScene& s, const py::handle& rays_in, int nthreads) {
   const FloatArray rays = float_array(rays_in, "rays", 6);
-  py::array_t<int32_t> counts(leading(rays));
+  auto counts = result_array<int32_t>(s, leading(rays));
   {
     py::gil_scoped_release nogil;
     s.scene->count_intersections({rays.data(), size_t(rays.size())}, counts.mutable_data(),
@@ -143,8 +175,10 @@ py::array count_intersections(PyScene& s, const py::handle& rays_in, int nthread
 py::dict compute_closest_points(PyScene& s, const py::handle& points_in, int nthreads) {
   const FloatArray points = float_array(points_in, "query_points", 3);
   const std::vector<py::ssize_t> shape = leading(points);
-  FloatArray q(with_last(shape, 3)), uvs(with_last(shape, 2)), normals(with_last(shape, 3));
-  IdArray geom(shape), prim(shape);
+  auto q = result_array<float>(s, with_last(shape, 3)),
+       uvs = result_array<float>(s, with_last(shape, 2)),
+       normals = result_array<float>(s, with_last(shape, 3));
+  auto geom = result_array<uint32_t>(s, shape), prim = result_array<uint32_t>(s, shape);
   const rc::ClosestOutput out{q.mutable_data(), geom.mutable_data(), prim.mutable_data(),
                               uvs.mutable_data(), normals.mutable_data()};
   {
@@ -163,9 +197,9 @@ py::dict compute_closest_points(PyScene& s, const py::handle& points_in, int nth
 // compute_distance, compute_signed_distance, compute_occupancy: one float32
 // per point, of the points' leading shape.
 template <typename Query>
-py::array point_floats(const py::handle& points_in, Query&& query) {
+py::array point_floats(const PyScene& s, const py::handle& points_in, Query&& query) {
   const FloatArray points = float_array(points_in, "query_points", 3);
-  FloatArray result(leading(points));
+  auto result = result_array<float>(s, leading(points));
   {
     py::gil_scoped_release nogil;
     query(std::span<const float>(points.data(), size_t(points.size())), result.mutable_data());
@@ -241,6 +275,7 @@ py::dict info(const PyScene& s) {
   d["build_ms"] = i.build_ms;
   d["memory_bytes"] = i.memory_bytes;
   d["normals_bytes"] = i.normals_bytes;
+  d["result_cache_bytes"] = s.results->cached_bytes();
   d["geometries"] = i.meshes;
   d["triangles"] = i.triangles;
   d["malformed_answers"] = i.malformed_answers;
@@ -302,7 +337,9 @@ PYBIND11_MODULE(hprt, m) {
   cls.attr("INVALID_ID") = api::kInvalidId;
   cls.def(py::init([](int nthreads, const std::string& backend, const py::kwargs& kwargs) {
             return PyScene{
-                std::make_unique<rc::RaycastingScene>(nthreads, backend, options_of(kwargs)), {}};
+                std::make_unique<rc::RaycastingScene>(nthreads, backend, options_of(kwargs)),
+                {},
+                std::make_shared<api::ResultMemory>()};
           }),
           py::arg("nthreads") = 0, py::arg("backend") = "bvh",
           "backend: bvh, embree or plugin:PATH.so[:OPTIONS]; keyword options as the command "
@@ -339,7 +376,7 @@ PYBIND11_MODULE(hprt, m) {
       .def(
           "compute_distance",
           [](PyScene& s, const py::handle& points, int nthreads) {
-            return point_floats(points, [&](std::span<const float> p, float* out) {
+            return point_floats(s, points, [&](std::span<const float> p, float* out) {
               s.scene->compute_distance(p, out, nthreads);
             });
           },
@@ -348,7 +385,7 @@ PYBIND11_MODULE(hprt, m) {
       .def(
           "compute_signed_distance",
           [](PyScene& s, const py::handle& points, int nthreads, int nsamples) {
-            return point_floats(points, [&](std::span<const float> p, float* out) {
+            return point_floats(s, points, [&](std::span<const float> p, float* out) {
               s.scene->compute_signed_distance(p, out, nthreads, nsamples);
             });
           },
@@ -359,7 +396,7 @@ PYBIND11_MODULE(hprt, m) {
       .def(
           "compute_occupancy",
           [](PyScene& s, const py::handle& points, int nthreads, int nsamples) {
-            return point_floats(points, [&](std::span<const float> p, float* out) {
+            return point_floats(s, points, [&](std::span<const float> p, float* out) {
               s.scene->compute_occupancy(p, out, nthreads, nsamples);
             });
           },
@@ -369,7 +406,8 @@ PYBIND11_MODULE(hprt, m) {
       .def("info", &info,
            "backend configuration, build time, memory (memory_bytes: the backend's structure; "
            "normals_bytes: the triangle normals compute_closest_points keeps, 12 bytes per "
-           "triangle once made), geometry counts")
+           "triangle once made; result_cache_bytes: freed result arrays of 2 MiB or more kept "
+           "for the next query's results, at most 256 MiB), geometry counts")
       .def_static(
           "create_rays_pinhole",
           [](double fov_deg, const py::handle& center, const py::handle& eye, const py::handle& up,

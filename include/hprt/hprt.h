@@ -245,6 +245,34 @@ class HPRT_API Backend {
   std::unique_ptr<Impl> impl_;
 };
 
+// Memory for result arrays that a caller hands on and frees later, as the
+// Python module does with the numpy arrays a query returns. Blocks of 2 MiB
+// or more are kept when released (up to max_bytes in all, the oldest
+// dropped first) and handed out again to a request of a close size, so a
+// query repeated with fresh result arrays writes into pages already faulted
+// in, not into pages the kernel must map and zero on first touch. Smaller
+// blocks come from the heap. Thread-safe. Every block must be released
+// before the ResultMemory goes (share it, e.g. through a shared_ptr held by
+// each block's owner).
+class HPRT_API ResultMemory {
+ public:
+  explicit ResultMemory(size_t max_bytes = size_t{256} << 20);
+  ~ResultMemory();
+  ResultMemory(const ResultMemory&) = delete;
+  ResultMemory& operator=(const ResultMemory&) = delete;
+
+  // At least `bytes`, 64-byte aligned (2 MiB for large blocks), uninitialised.
+  void* acquire(size_t bytes);
+  // A block from acquire (nullptr: nothing).
+  void release(void* p) noexcept;
+  // Bytes of released blocks held for reuse.
+  size_t cached_bytes() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // A mesh file (OBJ, PLY, optionally .gz) as arrays: xyz per vertex, three
 // indices per triangle, the whole file as one mesh.
 struct MeshArrays {

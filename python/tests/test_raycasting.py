@@ -161,6 +161,48 @@ def test_queries_from_several_threads_at_once():
             np.testing.assert_array_equal(ans[key], expected[key])
 
 
+def test_result_arrays_reused_after_free_are_fully_rewritten():
+    # Result arrays of 2 MiB or more come from memory the scene keeps for
+    # reuse once they are freed: a result still held is never written by a
+    # later call, one freed is rewritten in full (stale hits from the last
+    # call would show here as hits of rays that miss), and a result outlives
+    # its scene.
+    v, t = grid(16)
+    n = 600_000
+    rng = np.random.default_rng(5)
+    hits = np.hstack([rng.uniform(-0.9, 0.9, (n, 2)), np.full((n, 1), 2.0),
+                      np.tile([0.0, 0.0, -1.0], (n, 1))]).astype(np.float32)
+    misses = hits.copy()
+    misses[:, 0] += 5.0
+    scene = hprt.RaycastingScene()
+    scene.add_triangles(v, t)
+    assert scene.info()["result_cache_bytes"] == 0
+    kept = scene.cast_rays(hits)
+    expected = {k: a.copy() for k, a in kept.items()}
+    assert np.all(kept["t_hit"] == 2.0)
+    for _ in range(2):
+        ans = scene.cast_rays(misses)  # the second time in the first's freed memory
+        assert np.all(np.isinf(ans["t_hit"]))
+        assert np.all(ans["geometry_ids"] == hprt.INVALID_ID)
+        assert np.all(ans["primitive_ids"] == hprt.INVALID_ID)
+        assert not ans["primitive_uvs"].any() and not ans["primitive_normals"].any()
+        for key in kept:
+            assert not np.shares_memory(ans[key], kept[key])
+            ans[key][...] = 1  # writable
+        del ans
+        assert scene.info()["result_cache_bytes"] >= 4 * n * (1 + 1 + 1 + 2 + 3)
+    assert scene.test_occlusions(misses).sum() == 0 and scene.test_occlusions(hits).all()
+    counts = scene.count_intersections(misses)
+    assert counts.dtype == np.int32 and not counts.any()
+    assert np.all(scene.count_intersections(hits) == 1)
+    far = np.tile(np.array([[0.0, 0.0, 7.0]], np.float32), (n, 1))
+    assert np.all(scene.compute_distance(far) == 7.0)
+    assert not scene.compute_distance(far * 0.0).any()  # on the surface
+    del scene
+    for key in kept:
+        np.testing.assert_array_equal(kept[key], expected[key])
+
+
 def test_backend_options_and_plugins():
     v, t = grid(4)
     scene = hprt.RaycastingScene(builder="morton", layout="bvh4", leaf_size=2)

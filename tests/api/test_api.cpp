@@ -6,6 +6,7 @@
 #include <hprt/hprt.h>
 
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <limits>
 #include <span>
@@ -305,6 +306,40 @@ TEST(Api, RenderFillsTheBuffer) {
   const size_t centre = 3 * (15 * 40 + 20);
   EXPECT_GT(img.rgb[centre], img.rgb[0]);
   EXPECT_STREQ(api::version(), "0.1.0");
+}
+
+// Released large blocks are handed out again (their pages already mapped),
+// up to the memory's bound; small ones come from the heap; a block outlives
+// nothing it should not (released, it is cached, not written).
+TEST(Api, ResultMemoryReusesReleasedLargeBlocks) {
+  constexpr size_t kMiB = size_t{1} << 20;
+  api::ResultMemory memory(16 * kMiB);
+  auto* big = static_cast<float*>(memory.acquire(4 * kMiB));
+  big[0] = 1.0f;
+  big[kMiB - 1] = 2.0f;
+  EXPECT_EQ(memory.cached_bytes(), 0u);
+  memory.release(big);
+  EXPECT_GE(memory.cached_bytes(), 4 * kMiB);
+  EXPECT_EQ(memory.acquire(4 * kMiB), big);
+  EXPECT_EQ(memory.cached_bytes(), 0u);
+  void* other = memory.acquire(4 * kMiB);  // the cached one is in use: a fresh block
+  EXPECT_NE(other, big);
+  memory.release(other);
+  memory.release(big);
+  // Beyond the bound: freed, not cached.
+  const size_t cached = memory.cached_bytes();
+  memory.release(memory.acquire(32 * kMiB));
+  EXPECT_EQ(memory.cached_bytes(), cached);
+  // Small blocks: aligned, never cached (also for 0 bytes).
+  for (const size_t bytes : {size_t{0}, size_t{1}, size_t{100}, size_t{64 * 1024}}) {
+    void* p = memory.acquire(bytes);
+    ASSERT_NE(p, nullptr);
+    EXPECT_EQ(reinterpret_cast<uintptr_t>(p) % 64, 0u);
+    const size_t before = memory.cached_bytes();
+    memory.release(p);
+    EXPECT_EQ(memory.cached_bytes(), before);
+  }
+  memory.release(nullptr);
 }
 
 }  // namespace

@@ -132,5 +132,31 @@ TEST(HugeBufferCache, SmallBuffersAreNeverCached) {
   EXPECT_EQ(huge_buffer_cache_bytes(), 0u);
 }
 
+// A cache of its own (as api::ResultMemory holds) is independent of the
+// build arrays' one and keeps to its limits: the oldest buffer goes first.
+TEST(BufferCache, AnInstanceKeepsToItsOwnLimits) {
+  BufferCache cache(
+      BufferCache::Limits{.max_buffers = 2, .max_bytes = 8 * kMiB, .advise_huge_pages = false});
+  cache.retain();
+  void* a = cache.acquire(2 * kMiB);
+  void* b = cache.acquire(2 * kMiB);
+  void* c = cache.acquire(2 * kMiB);
+  EXPECT_EQ(reinterpret_cast<uintptr_t>(a) % kHugePage, 0u);
+  cache.release(a);
+  cache.release(b);
+  EXPECT_EQ(cache.bytes(), 4 * kMiB);
+  EXPECT_EQ(huge_buffer_cache_bytes(), 0u);  // not the build arrays' cache
+  cache.release(c);                          // a third buffer: the oldest, a, is freed
+  EXPECT_EQ(cache.bytes(), 4 * kMiB);
+  void* again = cache.acquire(2 * kMiB);
+  EXPECT_TRUE(again == b || again == c);
+  cache.release(again);
+  // Larger than max_bytes: freed at once, never cached.
+  cache.release(cache.acquire(10 * kMiB));
+  EXPECT_EQ(cache.bytes(), 4 * kMiB);
+  cache.release_retention();
+  EXPECT_EQ(cache.bytes(), 0u);
+}
+
 }  // namespace
 }  // namespace hprt::test

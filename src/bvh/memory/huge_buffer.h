@@ -40,23 +40,60 @@ inline void advise_huge_pages(void* p, size_t bytes) {
 #endif
 }
 
-// A 2 MiB aligned buffer of at least `bytes` (>= kHugePage): a cached one of
-// a close capacity, else a fresh one (huge-page advised while retaining).
-// Give it back with release_huge_buffer. Only the pages touched are faulted
-// in, so a bound may be asked for instead of a size.
-void* acquire_huge_buffer(size_t bytes);
-// Caches the buffer while a HugeBufferRetention lives (the oldest cached ones
-// are freed past the cache's bounds), else frees it.
-void release_huge_buffer(void* p) noexcept;
-// Bytes held by the cache now.
-size_t huge_buffer_cache_bytes();
+// A cache of freed large buffers (huge_buffer_cache.cpp): a request takes a
+// cached buffer of a close capacity, else a fresh 2 MiB aligned one; a
+// released buffer is kept while the cache is retained (up to its limits,
+// the oldest freed first), else freed. The build arrays share one
+// (build_buffer_cache()); an api::ResultMemory holds its own.
+class BufferCache {
+ public:
+  struct Limits {
+    size_t max_buffers = 32;
+    size_t max_bytes = size_t{2} << 30;
+    // Advise buffers made while retained as transparent huge pages.
+    bool advise_huge_pages = true;
+  };
+  explicit BufferCache(Limits limits);
+  ~BufferCache();  // frees the cached buffers (not those handed out)
+  BufferCache(const BufferCache&) = delete;
+  BufferCache& operator=(const BufferCache&) = delete;
 
-// While one lives, freed large buffers are cached; when the last one goes,
-// the cache is emptied (the memory goes back to the system).
+  // At least `bytes` (>= kHugePage is the intended use), 2 MiB aligned,
+  // uninitialised. Only the pages touched are faulted in, so a bound may be
+  // asked for instead of a size.
+  void* acquire(size_t bytes);
+  // Caches the buffer while retained, else frees it; a pointer this cache
+  // did not hand out is passed to free().
+  void release(void* p) noexcept;
+  // Bytes held by the cache now.
+  size_t bytes() const;
+  // Counted: while any retain() is not matched by a release_retention(),
+  // freed buffers are cached; the last release_retention() empties the cache.
+  void retain();
+  void release_retention();
+
+ private:
+  struct State;
+  std::unique_ptr<State> state_;
+  Limits limits_;
+};
+
+// The build arrays' cache: it caches while a HugeBufferRetention lives.
+BufferCache& build_buffer_cache();
+
+// From build_buffer_cache(): a cached buffer of a close capacity, else a
+// fresh one (huge-page advised while retaining). Give it back with
+// release_huge_buffer.
+inline void* acquire_huge_buffer(size_t bytes) { return build_buffer_cache().acquire(bytes); }
+inline void release_huge_buffer(void* p) noexcept { build_buffer_cache().release(p); }
+inline size_t huge_buffer_cache_bytes() { return build_buffer_cache().bytes(); }
+
+// While one lives, build_buffer_cache() caches freed large buffers; when the
+// last one goes, the cache is emptied (the memory goes back to the system).
 class HugeBufferRetention {
  public:
-  HugeBufferRetention();
-  ~HugeBufferRetention();
+  HugeBufferRetention() { build_buffer_cache().retain(); }
+  ~HugeBufferRetention() { build_buffer_cache().release_retention(); }
   HugeBufferRetention(const HugeBufferRetention&) = delete;
   HugeBufferRetention& operator=(const HugeBufferRetention&) = delete;
 };

@@ -1,9 +1,9 @@
-// The cache behind make_huge_buffer: freed large buffers, oldest first, kept
-// up to kMaxBuffers and kMaxBytes while a HugeBufferRetention lives. A request
-// takes the smallest cached buffer that fits it without wasting more than a
-// third of it (the arrays of successive rebuilds differ by a few per cent:
-// node counts change as the mesh deforms), else a fresh one. Few, large
-// allocations: one mutex, and a map of the buffers handed out to their sizes.
+// BufferCache: freed large buffers, oldest first, kept up to its limits
+// while retained. A request takes the smallest cached buffer that fits it
+// without wasting more than a third of it (the arrays of successive rebuilds
+// differ by a few per cent: node counts change as the mesh deforms), else a
+// fresh one. Few, large allocations: one mutex, and a map of the buffers
+// handed out to their sizes.
 #include <cstdlib>
 #include <mutex>
 #include <new>
@@ -44,22 +44,19 @@ bool serves(size_t capacity, size_t need) {
   return capacity >= need && capacity - need <= capacity / 3;
 }
 
-constexpr size_t kMaxBuffers = 32;
-constexpr size_t kMaxBytes = size_t{2} << 30;
-
 struct Cached {
   void* p;
   size_t capacity;
 };
 
-struct Cache {
-  std::mutex mutex;
+}  // namespace
+
+struct BufferCache::State {
+  mutable std::mutex mutex;
   std::vector<Cached> buffers;            // oldest first
   std::unordered_map<void*, size_t> out;  // handed out: capacity
   size_t bytes = 0;
   int retainers = 0;
-
-  Cache() { buffers.reserve(kMaxBuffers + 1); }  // release never allocates
 
   void free_all() {
     for (const Cached& c : buffers) {
@@ -71,17 +68,21 @@ struct Cache {
   }
 };
 
+BufferCache::BufferCache(Limits limits) : state_(std::make_unique<State>()), limits_(limits) {
+  state_->buffers.reserve(limits_.max_buffers + 1);  // release never allocates
+}
+
+BufferCache::~BufferCache() { state_->free_all(); }
+
 // Never destroyed: buffers may be released by other static objects' destructors.
-Cache& cache() {
-  static Cache* c = new Cache;
+BufferCache& build_buffer_cache() {
+  static BufferCache* c = new BufferCache(BufferCache::Limits{});
   return *c;
 }
 
-}  // namespace
-
-void* acquire_huge_buffer(size_t bytes) {
+void* BufferCache::acquire(size_t bytes) {
   const size_t need = (bytes + kHugePage - 1) / kHugePage * kHugePage;
-  Cache& c = cache();
+  State& c = *state_;
   bool retaining = false;
   {
     const std::lock_guard lock(c.mutex);
@@ -110,7 +111,7 @@ void* acquire_huge_buffer(size_t bytes) {
   if (!serves(capacity, need)) capacity = need;
   void* p = std::aligned_alloc(kHugePage, capacity);
   if (!p) throw std::bad_alloc();
-  if (retaining) advise_huge_pages(p, capacity);
+  if (retaining && limits_.advise_huge_pages) advise_huge_pages(p, capacity);
   try {
     const std::lock_guard lock(c.mutex);
     c.out[p] = capacity;
@@ -121,20 +122,20 @@ void* acquire_huge_buffer(size_t bytes) {
   return p;
 }
 
-void release_huge_buffer(void* p) noexcept {
+void BufferCache::release(void* p) noexcept {
   if (!p) return;
-  Cache& c = cache();
+  State& c = *state_;
   {
     const std::lock_guard lock(c.mutex);
     const auto it = c.out.find(p);
     const size_t capacity = it == c.out.end() ? 0 : it->second;
     if (it != c.out.end()) c.out.erase(it);
-    if (c.retainers > 0 && capacity > 0 && capacity <= kMaxBytes) {
+    if (c.retainers > 0 && capacity > 0 && capacity <= limits_.max_bytes) {
       c.buffers.push_back({p, capacity});
       c.bytes += capacity;
       poison(p, capacity);
       size_t drop = 0;
-      while (c.buffers.size() - drop > kMaxBuffers || c.bytes > kMaxBytes) {
+      while (c.buffers.size() - drop > limits_.max_buffers || c.bytes > limits_.max_bytes) {
         unpoison(c.buffers[drop].p, c.buffers[drop].capacity);
         std::free(c.buffers[drop].p);
         c.bytes -= c.buffers[drop].capacity;
@@ -147,22 +148,19 @@ void release_huge_buffer(void* p) noexcept {
   std::free(p);
 }
 
-size_t huge_buffer_cache_bytes() {
-  Cache& c = cache();
-  const std::lock_guard lock(c.mutex);
-  return c.bytes;
+size_t BufferCache::bytes() const {
+  const std::lock_guard lock(state_->mutex);
+  return state_->bytes;
 }
 
-HugeBufferRetention::HugeBufferRetention() {
-  Cache& c = cache();
-  const std::lock_guard lock(c.mutex);
-  ++c.retainers;
+void BufferCache::retain() {
+  const std::lock_guard lock(state_->mutex);
+  ++state_->retainers;
 }
 
-HugeBufferRetention::~HugeBufferRetention() {
-  Cache& c = cache();
-  const std::lock_guard lock(c.mutex);
-  if (--c.retainers == 0) c.free_all();
+void BufferCache::release_retention() {
+  const std::lock_guard lock(state_->mutex);
+  if (--state_->retainers == 0) state_->free_all();
 }
 
 }  // namespace hprt
