@@ -10,11 +10,12 @@
 namespace hprt::bench {
 
 void check_bench_options(const BenchOptions& o) {
-  if (o.repeat && *o.repeat < 1)
-    throw OptionError("repeat", "must be at least 1 (got " + std::to_string(*o.repeat) + ")");
-  if (o.threads < 0)
-    throw OptionError(
-        "threads", "must be 0 (all) or a positive count (got " + std::to_string(o.threads) + ")");
+  if (o.repeat && (*o.repeat < 1 || *o.repeat > kMaxRepeat))
+    throw OptionError("repeat", "must be in [1, " + std::to_string(kMaxRepeat) + "] (got " +
+                                    std::to_string(*o.repeat) + ")");
+  if (o.threads < 0 || o.threads > kMaxThreads)
+    throw OptionError("threads", "must be 0 (all) or a count up to " + std::to_string(kMaxThreads) +
+                                     " (got " + std::to_string(o.threads) + ")");
   if (!o.out_dir.empty()) {
     namespace fs = std::filesystem;
     std::error_code ec;

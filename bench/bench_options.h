@@ -8,6 +8,10 @@
 
 namespace hprt::bench {
 
+// The most repetitions any timing option asks for (bench --repeat, and
+// `hprt build`/`hprt trace --repeat`).
+inline constexpr int kMaxRepeat = 1000;
+
 struct BenchOptions {
   int threads = 0;            // the "all threads" runs use this many (0 = every hardware thread)
   std::optional<int> repeat;  // repetitions per timing; unset = the bench's default
@@ -16,9 +20,9 @@ struct BenchOptions {
   bool progress = true;       // progress bar on a terminal (stderr)
 };
 
-// Throws OptionError("repeat", ...) for repeat < 1, ("threads", ...) for
-// threads < 0, ("--out", ...) when out_dir exists and is not a directory.
-// Creates out_dir (and parents) when missing.
+// Throws OptionError("repeat", ...) for repeat outside [1, kMaxRepeat],
+// ("threads", ...) outside [0, kMaxThreads], ("--out", ...) when out_dir exists and is not a
+// directory. Creates out_dir (and parents) when missing.
 void check_bench_options(const BenchOptions& o);
 
 // The repetitions to use: o.repeat when given, else quick_default or full_default.

@@ -444,6 +444,7 @@ BenchReport run_trace_bench(const TraceBenchConfig& config) {
   check_bench_options(o);
   const int reps = repetitions(o, 3, 1);
   const std::vector<int> threads = thread_counts(o);
+  check_ray_count("rays", config.rays);
   const size_t n_rays = config.rays ? config.rays : (o.quick ? 20'000 : 1'000'000);
   const std::vector<Resolution> resolutions =
       o.quick ? std::vector<Resolution>{{160, 120}, {384, 216}}

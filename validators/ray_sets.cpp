@@ -47,6 +47,12 @@ RayKind parse_ray_kind(std::string_view name) {
   throw OptionError("kind", "unknown ray kind '" + std::string(name) + "' (expected " + list + ")");
 }
 
+void check_ray_count(const std::string& key, size_t n) {
+  if (n > kMaxRaySetSize)
+    throw OptionError(key, "too many rays: " + std::to_string(n) + " (at most " +
+                               std::to_string(kMaxRaySetSize) + ")");
+}
+
 std::vector<std::string> ray_kind_names() {
   std::vector<std::string> v;
   for (const KindName& k : kKinds) v.emplace_back(k.name);

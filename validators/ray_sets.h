@@ -39,6 +39,12 @@ bool ray_kind_needs_backend(RayKind kind);
 RayKind parse_ray_kind(std::string_view name);
 std::vector<std::string> ray_kind_names();
 
+// The most rays a ray set may hold (1e9 rays: 32 GB of .rays records); a
+// count option above it is an error before anything is allocated.
+inline constexpr size_t kMaxRaySetSize = 1'000'000'000;
+// Throws OptionError(key, ...) when n > kMaxRaySetSize.
+void check_ray_count(const std::string& key, size_t n);
+
 // n rays of `kind`, the same for the same seed. Shadow, reflection and diffuse rays
 // trace primary rays through `backend`, which must be built over `scene`;
 // other kinds ignore it. Throws InputError when the scene cannot give this

@@ -28,6 +28,7 @@
 #include "render/progress.h"
 #include "render/whitted.h"
 #include "validators/image_diff.h"
+#include "validators/ray_sets.h"
 
 namespace hprt::bench {
 namespace {
@@ -118,6 +119,8 @@ Sizes make_sizes(const FrontierBenchConfig& config) {
   Sizes sz;
   sz.reps = repetitions(o, 5, 1);
   sz.threads = resolve_threads(o.threads);
+  check_ray_count("hard_rays", config.hard_rays);
+  check_ray_count("trace_rays", config.trace_rays);
   sz.hard_rays = config.hard_rays ? config.hard_rays : (o.quick ? 200 : 2000);
   sz.trace_rays = config.trace_rays ? config.trace_rays : (o.quick ? 10'000 : 250'000);
   sz.img_w = o.quick ? 96 : 320;

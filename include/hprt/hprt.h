@@ -150,7 +150,9 @@ struct HitColumns {
 // update (auto|rebuild|refit|adaptive), adaptive_factor. Values as on the command
 // line ("32", "morton"); an unknown key or a bad value throws Error
 // "key: problem". Options that do not apply to a backend are ignored by it.
+// threads is 0 (every hardware thread) to kMaxThreads.
 using Options = std::map<std::string, std::string>;
+inline constexpr int kMaxThreads = 4096;
 
 struct BackendInfo {
   std::string name;       // configuration, e.g. "bvh/parallel/watertight", "embree/medium"

@@ -321,6 +321,11 @@ def test_bad_input_raises_with_the_cli_message(tmp_path):
         hprt.RaycastingScene(backend="plugin:/no/such/plugin.so")
     with pytest.raises(hprt.Error, match="nthreads"):
         hprt.RaycastingScene(nthreads=-1)
+    for n in (-1, 4097, 10**9):  # per call too (a huge task arena crashed oneTBB)
+        with pytest.raises(hprt.Error, match=r"nthreads: must be in \[0, 4096\]"):
+            scene.cast_rays(np.zeros((1, 6), np.float32), nthreads=n)
+        with pytest.raises(hprt.Error, match="nthreads"):
+            scene.compute_distance(np.zeros((1, 3), np.float32), nthreads=n)
     gid = scene.add_triangles(v, t)
     with pytest.raises(hprt.Error, match="geometry_id"):
         scene.update_triangles(gid + 5, v)

@@ -5,8 +5,11 @@
 #include "api/api_errors.h"
 #include "api/api_scene.h"
 #include "backends/backend_option_parse.h"
+#include "core/parallel.h"
 
 namespace hprt::api {
+
+static_assert(kMaxThreads == hprt::kMaxThreads);
 
 const Intersector& Backend::Impl::built() const {
   if (!intersector) throw std::invalid_argument("backend used after being moved from");

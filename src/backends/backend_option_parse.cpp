@@ -5,6 +5,7 @@
 #include <string>
 
 #include "core/error.h"
+#include "core/parallel.h"
 
 namespace hprt {
 namespace {
@@ -66,7 +67,7 @@ std::optional<std::string> parse_quality(std::string_view v) {
 
 void set_backend_option(BackendOptions& o, std::string_view key, std::string_view v) {
   if (key == "threads") {
-    o.threads = parse_int(key, v, 0, 4096);
+    o.threads = parse_int(key, v, 0, kMaxThreads);
   } else if (key == "builder") {
     o.build.builder =
         need(key, v, parse_builder(v), "sweep, presorted, binned, parallel or morton");

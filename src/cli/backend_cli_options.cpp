@@ -7,6 +7,7 @@
 #include "backends/backend_spec.h"
 #include "bvh/input/build_options.h"
 #include "cli/commands.h"
+#include "core/parallel.h"
 
 namespace hprt::cli {
 
@@ -27,6 +28,18 @@ const CLI::Validator& backend_spec_validator() {
   return v;
 }
 
+const CLI::Validator& non_negative_validator() {
+  static const CLI::Validator v(
+      [](std::string& s) -> std::string {
+        char* end = nullptr;
+        const double d = std::strtod(s.c_str(), &end);
+        return end != s.c_str() && *end == '\0' && d >= 0.0 ? std::string()
+                                                            : "must be a number >= 0, got " + s;
+      },
+      "NUMBER>=0");
+  return v;
+}
+
 void add_reference_option(CLI::App& cmd, std::string& reference) {
   cmd.add_option("--reference", reference,
                  "the backend --backend is diffed against: bvh, embree or plugin:PATH.so[:OPTIONS]")
@@ -36,7 +49,7 @@ void add_reference_option(CLI::App& cmd, std::string& reference) {
 
 void add_threads_option(CLI::App& cmd, int& threads) {
   cmd.add_option("--threads", threads, "worker threads (0 = all hardware threads)")
-      ->check(CLI::Range(0, 4096));
+      ->check(CLI::Range(0, kMaxThreads));
 }
 
 void add_backend_options(CLI::App& cmd, BackendCliOptions& o, bool with_backend) {

@@ -44,6 +44,9 @@ BackendOptions finish_backend_options(const BackendCliOptions& o);
 
 // Checks a --backend/--reference value: bvh, embree or plugin:PATH.so[:OPTIONS].
 const CLI::Validator& backend_spec_validator();
+// A number >= 0, inf included, NaN not (CLI::NonNegativeNumber's message
+// prints DBL_MAX in full).
+const CLI::Validator& non_negative_validator();
 // The validators' --reference (the backend --backend is diffed against).
 void add_reference_option(CLI::App& cmd, std::string& reference);
 

@@ -8,6 +8,10 @@
 
 namespace hprt {
 
+// The most threads any option asks for (--threads, threads=, nthreads): a
+// task arena is sized by it, and oneTBB fails on absurd sizes.
+inline constexpr int kMaxThreads = 4096;
+
 inline int resolve_threads(int requested) {
   return requested > 0 ? requested : tbb::this_task_arena::max_concurrency();
 }

@@ -20,10 +20,19 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr size_t kGrain = 4096;    // rays per task of the conversions
 constexpr size_t kChunk = 262144;  // rays per chunk of a query (cast_rays)
 
-// Runs f in an arena of `threads` (0 = every hardware thread).
+void check_nthreads(int nthreads) {
+  if (nthreads < 0 || nthreads > api::kMaxThreads)
+    throw api::Error("nthreads: must be in [0, " + std::to_string(api::kMaxThreads) + "], got " +
+                     std::to_string(nthreads));
+}
+
+// Runs f in an arena of `nthreads`, or where the caller runs for 0 (the
+// backend's own threads, else every hardware thread).
 template <typename F>
-decltype(auto) in_arena(int threads, F&& f) {
-  tbb::task_arena arena(threads > 0 ? threads : int(tbb::task_arena::automatic));
+decltype(auto) with_nthreads(int nthreads, F&& f) {
+  check_nthreads(nthreads);
+  if (nthreads == 0) return f();
+  tbb::task_arena arena(nthreads);
   return arena.execute(std::forward<F>(f));
 }
 
@@ -51,7 +60,7 @@ void check_rays(std::span<const float> rays) {
 RaycastingScene::RaycastingScene(int nthreads, const std::string& backend,
                                  const api::Options& options)
     : backend_name_(backend), options_(options) {
-  if (nthreads < 0) throw api::Error("nthreads: must be >= 0, got " + std::to_string(nthreads));
+  check_nthreads(nthreads);
   if (nthreads > 0) options_["threads"] = std::to_string(nthreads);
   backend_.emplace(backend_name_, options_);  // bad names and options fail here, not later
 }
@@ -144,7 +153,7 @@ void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& o
                                   {out.primitive_normals + 3 * begin, 3 * count}});
     }
   };
-  nthreads > 0 ? in_arena(nthreads, run) : run();
+  with_nthreads(nthreads, run);
 }
 
 void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, float tfar,
@@ -160,7 +169,7 @@ void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, 
       b.occluded({r.get(), count}, {occluded + begin, count});
     }
   };
-  nthreads > 0 ? in_arena(nthreads, run) : run();
+  with_nthreads(nthreads, run);
 }
 
 void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* counts,
@@ -178,7 +187,7 @@ void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* 
       for (size_t k = 0; k < count; ++k) counts[begin + k] = int32_t(c[k]);
     }
   };
-  nthreads > 0 ? in_arena(nthreads, run) : run();
+  with_nthreads(nthreads, run);
 }
 
 IntersectionLists RaycastingScene::list_intersections(std::span<const float> rays, int nthreads) {
@@ -210,7 +219,7 @@ IntersectionLists RaycastingScene::list_intersections(std::span<const float> ray
       }
     }
   };
-  nthreads > 0 ? in_arena(nthreads, run) : run();
+  with_nthreads(nthreads, run);
   return out;
 }
 
@@ -234,7 +243,7 @@ void for_point_chunks(std::span<const float> points, int nthreads, F&& f) {
       f(points.subspan(3 * begin, 3 * count), begin, count);
     }
   };
-  nthreads > 0 ? in_arena(nthreads, run) : run();
+  with_nthreads(nthreads, run);
 }
 }  // namespace
 

@@ -302,6 +302,20 @@ TEST_F(Bench, BadOptionsExitTwo) {
   EXPECT_EQ(r.code, 2);
   r = run("bench trace --quick --threads -1");
   EXPECT_EQ(r.code, 2);
+  // Beyond the bounds: errors before anything is sized by them (a task
+  // arena of 1e9 threads crashed oneTBB; 1e11 rays ran out of memory).
+  r = run("bench trace --quick --threads 1000000000");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--threads"), std::string::npos) << r.err;
+  r = run("bench trace --quick --no-suite --rays 100000000000");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--rays: too many rays"), std::string::npos) << r.err;
+  r = run("bench build --quick --repeat 1000000000");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--repeat"), std::string::npos) << r.err;
+  r = run("bench frontier --quick --hard-rays 100000000000");
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.err.find("--hard-rays"), std::string::npos) << r.err;
   r = run("bench trace --quick --meshes " + path("missing.ply"));
   EXPECT_EQ(r.code, 2);
   EXPECT_NE(r.err.find("missing.ply"), std::string::npos) << r.err;

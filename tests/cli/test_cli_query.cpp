@@ -134,6 +134,12 @@ TEST_F(CliQuery, PointKindsNeedPointsAndRayKindsRays) {
   const CliResult d = run("query " + path("cube.obj") + " --points " + path("p.points") +
                           " --kind closest --max-distance -1 -o " + path("out.bin"));
   EXPECT_EQ(d.code, 2);
+  EXPECT_NE(d.err.find("--max-distance: must be a number >= 0, got -1"), std::string::npos)
+      << d.err;
+  EXPECT_LT(d.err.size(), 200u) << d.err;  // one short line
+  const CliResult nan = run("query " + path("cube.obj") + " --points " + path("p.points") +
+                            " --kind closest --max-distance nan -o " + path("out.bin"));
+  EXPECT_EQ(nan.code, 2);
   const CliResult e = run("query " + path("cube.obj") + " --isect mt --points " + path("p.points") +
                           " --kind inside -o " + path("out.bin"));
   EXPECT_EQ(e.code, 2);

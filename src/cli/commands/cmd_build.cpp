@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "backends/intersector.h"
+#include "bench/bench_options.h"
 #include "cli/commands.h"
 #include "core/parallel.h"
 #include "io/scene/scene_reader.h"
@@ -122,7 +123,7 @@ void add_build_command(CLI::App& app, CommandState& /*state*/) {
   cmd->add_option("scene", args->scene, "scene JSON or mesh file (OBJ/PLY)")->required();
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
   cmd->add_option("--repeat", args->repeat, "build this many times, report the median time")
-      ->check(CLI::Range(1, 1000))
+      ->check(CLI::Range(1, bench::kMaxRepeat))
       ->capture_default_str();
   add_backend_options(*cmd, args->backend, /*with_backend=*/false);
   cmd->callback([args] { run_build(*args); });

@@ -189,7 +189,7 @@ void add_query_command(CLI::App& app, CommandState& /*state*/) {
   cmd->add_option("--max-distance", args->max_distance,
                   "closest: search radius (inclusive); farther points get distance inf and "
                   "invalid IDs (default: no bound)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_validator());
   cmd->add_option("-o,--output", args->output, "output file")->required();
   cmd->add_flag("--json", args->json, "print one JSON object on stdout");
   add_backend_options(*cmd, args->backend);

@@ -18,8 +18,6 @@
 namespace hprt::cli {
 namespace {
 
-constexpr long long kMaxRays = 1000000000;  // 1e9 rays = 32 GB of .rays
-
 std::string format_count(double n) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.17g", n);
@@ -37,9 +35,9 @@ struct RaysArgs {
 
 void run_rays(const RaysArgs& a) {
   if (!(a.n >= 1.0)) throw InputError("-n", "need at least 1 ray");
-  if (a.n > double(kMaxRays))
+  if (a.n > double(kMaxRaySetSize))
     throw InputError("-n", "too many rays: " + format_count(a.n) + " (at most " +
-                               std::to_string(kMaxRays) + ")");
+                               std::to_string(kMaxRaySetSize) + ")");
   if (a.n != std::floor(a.n)) throw InputError("-n", "must be a whole number of rays");
   const RayKind kind = parse_ray_kind(a.kind);
   check_output_directory(a.output);

@@ -12,6 +12,7 @@
 #include <string>
 
 #include "backends/intersector.h"
+#include "bench/bench_options.h"
 #include "cli/commands.h"
 #include "cli/output_path.h"
 #include "core/parallel.h"
@@ -126,7 +127,7 @@ void add_trace_command(CLI::App& app, CommandState& /*state*/) {
   cmd->add_option("--repeat", args->repeat,
                   "trace the rays this many times in one process and report the median time "
                   "(the first trace also pays for cold caches)")
-      ->check(CLI::Range(1, 1000));
+      ->check(CLI::Range(1, bench::kMaxRepeat));
   add_backend_options(*cmd, args->backend);
   cmd->callback([args] { run_trace(*args); });
 }

@@ -175,7 +175,7 @@ void add_validate_query_command(CLI::App& validate, CommandState& state) {
   cmd->add_option("-n", args->n, "number of generated queries");
   cmd->add_option("--seed", args->seed, "random seed")->capture_default_str();
   cmd->add_option("--max-distance", args->max_distance, "closest: search radius (inclusive)")
-      ->check(CLI::NonNegativeNumber);
+      ->check(non_negative_validator());
   cmd->add_option("--mismatches", args->mismatches,
                   "write the disputed rays or points here (default mismatches.rays or "
                   "mismatches.points)");

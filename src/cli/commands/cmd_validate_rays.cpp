@@ -28,8 +28,6 @@
 namespace hprt::cli {
 namespace {
 
-constexpr double kMaxRays = 1e9;
-
 struct ValidateRaysArgs {
   std::string scene;
   std::string rays;
@@ -51,7 +49,7 @@ int run_validate_rays(const ValidateRaysArgs& a) {
   if (!a.kind.empty()) {
     kind = parse_ray_kind(a.kind);
     if (!(a.n >= 1.0)) throw InputError("-n", "--kind needs -n with at least 1 ray");
-    if (a.n > kMaxRays || a.n != std::floor(a.n))
+    if (a.n > double(kMaxRaySetSize) || a.n != std::floor(a.n))
       throw InputError("-n", "must be a whole number of rays up to 1e9");
   }
   if (!(a.brute_force_limit >= 0.0)) throw InputError("--brute-force-limit", "must be >= 0");
