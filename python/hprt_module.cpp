@@ -406,8 +406,9 @@ PYBIND11_MODULE(hprt, m) {
       .def("info", &info,
            "backend configuration, build time, memory (memory_bytes: the backend's structure; "
            "normals_bytes: the triangle normals compute_closest_points keeps, 12 bytes per "
-           "triangle once made; result_cache_bytes: freed result arrays of 2 MiB or more kept "
-           "for the next query's results, at most 256 MiB), geometry counts")
+           "triangle once made; result_cache_bytes: the capacity of freed result arrays of 2 "
+           "MiB or more kept for the next query's results, at most 256 MiB per scene), geometry "
+           "counts")
       .def_static(
           "create_rays_pinhole",
           [](double fov_deg, const py::handle& center, const py::handle& eye, const py::handle& up,

@@ -21,6 +21,9 @@
 
 namespace hprt {
 
+// The most points a point set may hold (1e9 points: 12 GB of .points).
+inline constexpr size_t kMaxPointSetSize = 1'000'000'000;
+
 enum class PointKind { kRandom = 0, kNear = 1, kHard = 2 };
 
 std::string_view to_string(PointKind kind);

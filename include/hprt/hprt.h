@@ -285,7 +285,9 @@ HPRT_API MeshArrays load_mesh(const std::string& path);
 
 // Ray sets as `hprt rays` makes them: kind primary, shadow, reflection,
 // diffuse, random, vertex-probe, edge-probe, grazing, axis, nan (the command line's --kind
-// names); deterministic for a seed. Throws Error for an unknown kind.
+// names); deterministic for a seed. Throws Error for an unknown kind or a
+// count above kMaxRays.
+inline constexpr size_t kMaxRays = 1'000'000'000;
 HPRT_API std::vector<Ray> make_rays(const Scene& scene, const std::string& kind, size_t count,
                                     uint64_t seed = 1);
 
@@ -325,7 +327,7 @@ struct Image {
 
 // A Whitted render (shadows, mirror reflections) of the scene through its
 // camera with a built backend. width/height 0 keep the camera's; one alone
-// keeps its aspect ratio.
+// keeps its aspect ratio; each at most 65536 (std::invalid_argument).
 HPRT_API Image render(const Scene& scene, const Backend& backend, int width = 0, int height = 0);
 
 }  // namespace hprt::api

@@ -321,6 +321,11 @@ def test_bad_input_raises_with_the_cli_message(tmp_path):
         hprt.RaycastingScene(backend="plugin:/no/such/plugin.so")
     with pytest.raises(hprt.Error, match="nthreads"):
         hprt.RaycastingScene(nthreads=-1)
+    with pytest.raises(hprt.Error, match="width_px, height_px: 100000 x 100000 rays"):
+        hprt.RaycastingScene.create_rays_pinhole(60, [0, 0, 0], [0, 0, 1], [0, 1, 0],
+                                                 100000, 100000)
+    with pytest.raises(ValueError, match="render: image size above 65536"):
+        hprt.render(os.path.join(SOURCE, "data", "scenes", "single_13mm.json"), 70000, 10)
     for n in (-1, 4097, 10**9):  # per call too (a huge task arena crashed oneTBB)
         with pytest.raises(hprt.Error, match=r"nthreads: must be in \[0, 4096\]"):
             scene.cast_rays(np.zeros((1, 6), np.float32), nthreads=n)

@@ -8,6 +8,7 @@
 #include "api/api_errors.h"
 #include "api/api_scene.h"
 #include "render/camera_override.h"
+#include "render/framebuffer.h"
 #include "render/whitted.h"
 #include "validators/ray_diff.h"
 #include "validators/ray_diff_summary.h"
@@ -15,6 +16,7 @@
 
 namespace hprt::api {
 
+static_assert(kMaxRays == kMaxRaySetSize);
 static_assert(uint8_t(Verdict::kBothWrong) == uint8_t(RayVerdict::kBothWrong) &&
               uint8_t(Verdict::kBackendRight) == uint8_t(RayVerdict::kBvhRight));
 
@@ -23,6 +25,7 @@ std::vector<Ray> make_rays(const Scene& scene, const std::string& kind, size_t c
   return translate_errors([&] {
     const hprt::Scene& s = scene.impl().scene;
     const RayKind k = parse_ray_kind(kind);
+    check_ray_count("count", count);
     // Surface points come from Embree, as `hprt rays` and `hprt validate rays` take them.
     std::unique_ptr<Intersector> embree;
     if (ray_kind_needs_backend(k)) {
@@ -71,6 +74,8 @@ DiffReport diff(const Scene& scene, const Backend& backend, const Backend& refer
 
 Image render(const Scene& scene, const Backend& backend, int width, int height) {
   if (width < 0 || height < 0) throw std::invalid_argument("render: negative image size");
+  if (width > kMaxImageSide || height > kMaxImageSide)
+    throw std::invalid_argument("render: image size above " + std::to_string(kMaxImageSide));
   return translate_errors([&] {
     const hprt::Scene& s = scene.impl().scene;
     const Camera camera = override_camera(s.camera, width, height, 0.0f);

@@ -138,6 +138,7 @@ void parallel_ranges(size_t n, F&& f) {
 // instead of allocating the whole batch twice.
 void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads) {
   check_rays(rays);
+  check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
   const auto run = [&] {
     const size_t n = rays.size() / 6;
@@ -159,6 +160,7 @@ void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& o
 void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, float tfar,
                                       uint8_t* occluded, int nthreads) {
   check_rays(rays);
+  check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
   const auto run = [&] {
     const size_t n = rays.size() / 6;
@@ -175,6 +177,7 @@ void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, 
 void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* counts,
                                           int nthreads) {
   check_rays(rays);
+  check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
   const auto run = [&] {
     const size_t n = rays.size() / 6;
@@ -192,6 +195,7 @@ void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* 
 
 IntersectionLists RaycastingScene::list_intersections(std::span<const float> rays, int nthreads) {
   check_rays(rays);
+  check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
   IntersectionLists out;
   const auto run = [&] {
@@ -250,6 +254,7 @@ void for_point_chunks(std::span<const float> points, int nthreads, F&& f) {
 void RaycastingScene::compute_closest_points(std::span<const float> points,
                                              const ClosestOutput& out, int nthreads) {
   check_points(points);
+  check_nthreads(nthreads);
   api::Backend& b = built();
   std::vector<api::Backend::ClosestPoint> c(std::min(points.size() / 3, kChunk));
   for_point_chunks(points, nthreads, [&](std::span<const float> p, size_t begin, size_t count) {
@@ -277,6 +282,7 @@ void RaycastingScene::compute_closest_points(std::span<const float> points,
 void RaycastingScene::compute_distance(std::span<const float> points, float* distance,
                                        int nthreads) {
   check_points(points);
+  check_nthreads(nthreads);
   api::Backend& b = built();
   std::vector<api::Backend::ClosestPoint> c(std::min(points.size() / 3, kChunk));
   for_point_chunks(points, nthreads, [&](std::span<const float> p, size_t begin, size_t count) {
@@ -289,6 +295,7 @@ void RaycastingScene::compute_signed_distance(std::span<const float> points, flo
                                               int nthreads, int nsamples) {
   check_points(points);
   check_nsamples(nsamples);
+  check_nthreads(nthreads);
   api::Backend& b = built();
   std::vector<api::Backend::ClosestPoint> c(std::min(points.size() / 3, kChunk));
   std::vector<uint8_t> where(c.size());
@@ -307,6 +314,7 @@ void RaycastingScene::compute_occupancy(std::span<const float> points, float* oc
                                         int nthreads, int nsamples) {
   check_points(points);
   check_nsamples(nsamples);
+  check_nthreads(nthreads);
   api::Backend& b = built();
   std::vector<uint8_t> where(std::min(points.size() / 3, kChunk));
   for_point_chunks(points, nthreads, [&](std::span<const float> p, size_t begin, size_t count) {
@@ -349,6 +357,9 @@ namespace {
 // with M = R^T K^-1 (camera to world), not normalised (as Open3D's).
 std::vector<float> pinhole_rays(const double m[3][3], const double eye[3], int w, int h) {
   if (w <= 0 || h <= 0) throw api::Error("width_px, height_px: must be positive");
+  if (size_t(w) * size_t(h) > api::kMaxRays)
+    throw api::Error("width_px, height_px: " + std::to_string(w) + " x " + std::to_string(h) +
+                     " rays, more than " + std::to_string(api::kMaxRays));
   std::vector<float> rays(size_t(w) * size_t(h) * 6);
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {

@@ -9,6 +9,9 @@
 
 namespace hprt {
 
+// The widest and tallest image any render makes (--width, --height).
+inline constexpr int kMaxImageSide = 65536;
+
 class Framebuffer {
  public:
   Framebuffer() = default;

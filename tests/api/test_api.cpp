@@ -309,8 +309,8 @@ TEST(Api, RenderFillsTheBuffer) {
 }
 
 // Released large blocks are handed out again (their pages already mapped),
-// up to the memory's bound; small ones come from the heap; a block outlives
-// nothing it should not (released, it is cached, not written).
+// up to the memory's bound; a block in use is never handed out twice; small
+// ones come from the heap and are never cached.
 TEST(Api, ResultMemoryReusesReleasedLargeBlocks) {
   constexpr size_t kMiB = size_t{1} << 20;
   api::ResultMemory memory(16 * kMiB);

@@ -140,6 +140,7 @@ TEST_F(CliQuery, PointKindsNeedPointsAndRayKindsRays) {
   const CliResult nan = run("query " + path("cube.obj") + " --points " + path("p.points") +
                             " --kind closest --max-distance nan -o " + path("out.bin"));
   EXPECT_EQ(nan.code, 2);
+  EXPECT_NE(nan.err.find("must be a number >= 0, got nan"), std::string::npos) << nan.err;
   const CliResult e = run("query " + path("cube.obj") + " --isect mt --points " + path("p.points") +
                           " --kind inside -o " + path("out.bin"));
   EXPECT_EQ(e.code, 2);

@@ -81,6 +81,7 @@ BufferCache& build_buffer_cache() {
 }
 
 void* BufferCache::acquire(size_t bytes) {
+  if (bytes > SIZE_MAX / 2) throw std::bad_alloc();  // no size that wraps below
   const size_t need = (bytes + kHugePage - 1) / kHugePage * kHugePage;
   State& c = *state_;
   bool retaining = false;

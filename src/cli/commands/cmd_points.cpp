@@ -16,8 +16,6 @@
 namespace hprt::cli {
 namespace {
 
-constexpr double kMaxPoints = 1e9;  // 12 GB of .points
-
 struct PointsArgs {
   std::string scene;
   std::string kind;
@@ -27,7 +25,7 @@ struct PointsArgs {
 };
 
 void run_points(const PointsArgs& a) {
-  if (!(a.n >= 1.0) || a.n > kMaxPoints || a.n != std::floor(a.n))
+  if (!(a.n >= 1.0) || a.n > double(kMaxPointSetSize) || a.n != std::floor(a.n))
     throw OptionError("n", "must be a whole number of points from 1 to 1e9");
   const PointKind kind = parse_point_kind(a.kind);
   check_output_directory(a.output);

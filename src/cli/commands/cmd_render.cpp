@@ -28,6 +28,7 @@
 #include "io/scene/scene_reader.h"
 #include "render/animation_loop.h"
 #include "render/camera_override.h"
+#include "render/framebuffer.h"
 #include "render/progress.h"
 #include "render/tile_scheduler.h"
 #include "render/whitted.h"
@@ -250,9 +251,9 @@ void add_render_command(CLI::App& app, CommandState& /*state*/) {
                   "with --frames a pattern with one %d-style frame number, e.g. out_%04d.png")
       ->required();
   cmd->add_option("--width", args->width, "image width (overrides the scene camera)")
-      ->check(CLI::Range(1, 65536));
+      ->check(CLI::Range(1, kMaxImageSide));
   cmd->add_option("--height", args->height, "image height (overrides the scene camera)")
-      ->check(CLI::Range(1, 65536));
+      ->check(CLI::Range(1, kMaxImageSide));
   cmd->add_option("--focal", args->focal_mm, "focal length in mm (overrides the scene camera)")
       ->check(CLI::Range(0.1f, 100000.0f));
   cmd->add_option("--frames", args->frames,

@@ -30,8 +30,6 @@
 namespace hprt::cli {
 namespace {
 
-constexpr double kMaxQueries = 1e9;
-
 struct ValidateQueryArgs {
   std::string scene;
   std::string query;
@@ -62,7 +60,7 @@ int run_validate_query(const ValidateQueryArgs& a) {
                                                      " FILE or --kind K -n N");
   if (!a.kind.empty()) {
     if (!(a.n >= 1.0)) throw OptionError("n", "--kind needs -n with at least 1 query");
-    if (a.n > kMaxQueries || a.n != std::floor(a.n))
+    if (a.n > double(count ? kMaxRaySetSize : kMaxPointSetSize) || a.n != std::floor(a.n))
       throw OptionError("n", "must be a whole number of queries up to 1e9");
   }
   if (!(a.brute_force_limit >= 0.0)) throw OptionError("brute-force-limit", "must be >= 0");
