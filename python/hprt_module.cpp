@@ -91,12 +91,21 @@ api::Options options_of(const py::kwargs& kwargs) {
 }
 
 // A scene, the arrays it shares (kept alive here per geometry), and the
-// memory its queries' result arrays come from (api::ResultMemory: a call
-// repeated after the last call's results were freed reuses their pages).
+// memory its queries' result arrays come from: one api::ResultMemory for
+// the process (a call repeated after the last call's results were freed
+// reuses their pages, whichever scene made them; what it keeps is bounded
+// for the process, not per scene).
+// Never destroyed: arrays freed at interpreter exit still give their blocks back.
+const std::shared_ptr<api::ResultMemory>& process_result_memory() {
+  static const auto* memory =
+      new std::shared_ptr<api::ResultMemory>(std::make_shared<api::ResultMemory>());
+  return *memory;
+}
+
 struct PyScene {
   std::unique_ptr<rc::RaycastingScene> scene;
   std::map<uint32_t, std::pair<py::object, py::object>> kept;
-  std::shared_ptr<api::ResultMemory> results = std::make_shared<api::ResultMemory>();
+  std::shared_ptr<api::ResultMemory> results;
 };
 
 // A fresh, uninitialised C-contiguous array from the scene's result memory;
@@ -339,7 +348,7 @@ PYBIND11_MODULE(hprt, m) {
             return PyScene{
                 std::make_unique<rc::RaycastingScene>(nthreads, backend, options_of(kwargs)),
                 {},
-                std::make_shared<api::ResultMemory>()};
+                process_result_memory()};
           }),
           py::arg("nthreads") = 0, py::arg("backend") = "bvh",
           "backend: bvh, embree or plugin:PATH.so[:OPTIONS]; keyword options as the command "
@@ -407,7 +416,8 @@ PYBIND11_MODULE(hprt, m) {
            "backend configuration, build time, memory (memory_bytes: the backend's structure; "
            "normals_bytes: the triangle normals compute_closest_points keeps, 12 bytes per "
            "triangle once made; result_cache_bytes: the capacity of freed result arrays of 2 "
-           "MiB or more kept for the next query's results, at most 256 MiB per scene), geometry "
+           "MiB or more kept for the next query's results, shared by every scene of the process, "
+           "at most 256 MiB), geometry "
            "counts")
       .def_static(
           "create_rays_pinhole",

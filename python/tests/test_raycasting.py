@@ -162,8 +162,8 @@ def test_queries_from_several_threads_at_once():
 
 
 def test_result_arrays_reused_after_free_are_fully_rewritten():
-    # Result arrays of 2 MiB or more come from memory the scene keeps for
-    # reuse once they are freed: a result still held is never written by a
+    # Result arrays of 2 MiB or more come from memory kept for reuse (one
+    # for the process) once they are freed: a result still held is never written by a
     # later call, one freed is rewritten in full (stale hits from the last
     # call would show here as hits of rays that miss), and a result outlives
     # its scene.
@@ -176,7 +176,6 @@ def test_result_arrays_reused_after_free_are_fully_rewritten():
     misses[:, 0] += 5.0
     scene = hprt.RaycastingScene()
     scene.add_triangles(v, t)
-    assert scene.info()["result_cache_bytes"] == 0
     kept = scene.cast_rays(hits)
     expected = {k: a.copy() for k, a in kept.items()}
     assert np.all(kept["t_hit"] == 2.0)
@@ -191,6 +190,9 @@ def test_result_arrays_reused_after_free_are_fully_rewritten():
             ans[key][...] = 1  # writable
         del ans
         assert scene.info()["result_cache_bytes"] >= 4 * n * (1 + 1 + 1 + 2 + 3)
+        # One memory for the process: another scene sees (and reuses) it.
+        assert (hprt.RaycastingScene().info()["result_cache_bytes"]
+                == scene.info()["result_cache_bytes"])
     assert scene.test_occlusions(misses).sum() == 0 and scene.test_occlusions(hits).all()
     counts = scene.count_intersections(misses)
     assert counts.dtype == np.int32 and not counts.any()
