@@ -90,29 +90,29 @@ api::Options options_of(const py::kwargs& kwargs) {
   return o;
 }
 
-// A scene, the arrays it shares (kept alive here per geometry), and the
-// memory its queries' result arrays come from: one api::ResultMemory for
-// the process (a call repeated after the last call's results were freed
-// reuses their pages, whichever scene made them; what it keeps is bounded
-// for the process, not per scene).
-// Never destroyed: arrays freed at interpreter exit still give their blocks back.
+// The memory every query's result arrays come from: one api::ResultMemory
+// for the process (a call repeated after the last call's results were
+// freed reuses their pages, whichever scene made them; what it keeps is
+// bounded for the process, not per scene). Never destroyed: arrays freed at
+// interpreter exit still give their blocks back.
 const std::shared_ptr<api::ResultMemory>& process_result_memory() {
   static const auto* memory =
       new std::shared_ptr<api::ResultMemory>(std::make_shared<api::ResultMemory>());
   return *memory;
 }
 
+// A scene and the arrays it shares (kept alive here per geometry).
 struct PyScene {
   std::unique_ptr<rc::RaycastingScene> scene;
   std::map<uint32_t, std::pair<py::object, py::object>> kept;
-  std::shared_ptr<api::ResultMemory> results;
 };
 
-// A fresh, uninitialised C-contiguous array from the scene's result memory;
+// A fresh, uninitialised C-contiguous array from process_result_memory();
 // its block goes back there when numpy frees the array (the block's owner
 // shares the ResultMemory, so a result may outlive its scene).
 template <typename T>
-py::array_t<T> result_array(const PyScene& s, const std::vector<py::ssize_t>& shape) {
+py::array_t<T> result_array(const std::vector<py::ssize_t>& shape) {
+  const std::shared_ptr<api::ResultMemory>& memory = process_result_memory();
   struct Block {
     std::shared_ptr<api::ResultMemory> memory;
     void* p;
@@ -124,10 +124,10 @@ py::array_t<T> result_array(const PyScene& s, const std::vector<py::ssize_t>& sh
   };
   size_t n = 1;
   for (const py::ssize_t d : shape) n *= size_t(d);
-  auto* block = new Block{s.results, nullptr};
+  auto* block = new Block{memory, nullptr};
   py::capsule owner;
   try {
-    block->p = s.results->acquire(n * sizeof(T));
+    block->p = memory->acquire(n * sizeof(T));
     owner = py::capsule(block, free_block);
   } catch (...) {
     free_block(block);
@@ -139,9 +139,9 @@ py::array_t<T> result_array(const PyScene& s, const std::vector<py::ssize_t>& sh
 py::dict cast_rays(PyScene& s, const py::handle& rays_in, int nthreads) {
   const FloatArray rays = float_array(rays_in, "rays", 6);
   const std::vector<py::ssize_t> shape = leading(rays);
-  auto t = result_array<float>(s, shape), uvs = result_array<float>(s, with_last(shape, 2)),
-       normals = result_array<float>(s, with_last(shape, 3));
-  auto geom = result_array<uint32_t>(s, shape), prim = result_array<uint32_t>(s, shape);
+  auto t = result_array<float>(shape), uvs = result_array<float>(with_last(shape, 2)),
+       normals = result_array<float>(with_last(shape, 3));
+  auto geom = result_array<uint32_t>(shape), prim = result_array<uint32_t>(shape);
   const rc::CastOutput out{t.mutable_data(), geom.mutable_data(), prim.mutable_data(),
                            uvs.mutable_data(), normals.mutable_data()};
   {
@@ -160,7 +160,7 @@ py::dict cast_rays(PyScene& s, const py::handle& rays_in, int nthreads) {
 py::array test_occlusions(PyScene& s, const py::handle& rays_in, float tnear, float tfar,
                           int nthreads) {
   const FloatArray rays = float_array(rays_in, "rays", 6);
-  auto occluded = result_array<bool>(s, leading(rays));
+  auto occluded = result_array<bool>(leading(rays));
   static_assert(sizeof(bool) == 1);
   {
     py::gil_scoped_release nogil;
@@ -172,7 +172,7 @@ py::array test_occlusions(PyScene& s, const py::handle& rays_in, float tnear, fl
 
 py::array count_intersections(PyScene& s, const py::handle& rays_in, int nthreads) {
   const FloatArray rays = float_array(rays_in, "rays", 6);
-  auto counts = result_array<int32_t>(s, leading(rays));
+  auto counts = result_array<int32_t>(leading(rays));
   {
     py::gil_scoped_release nogil;
     s.scene->count_intersections({rays.data(), size_t(rays.size())}, counts.mutable_data(),
@@ -184,10 +184,9 @@ py::array count_intersections(PyScene& s, const py::handle& rays_in, int nthread
 py::dict compute_closest_points(PyScene& s, const py::handle& points_in, int nthreads) {
   const FloatArray points = float_array(points_in, "query_points", 3);
   const std::vector<py::ssize_t> shape = leading(points);
-  auto q = result_array<float>(s, with_last(shape, 3)),
-       uvs = result_array<float>(s, with_last(shape, 2)),
-       normals = result_array<float>(s, with_last(shape, 3));
-  auto geom = result_array<uint32_t>(s, shape), prim = result_array<uint32_t>(s, shape);
+  auto q = result_array<float>(with_last(shape, 3)), uvs = result_array<float>(with_last(shape, 2)),
+       normals = result_array<float>(with_last(shape, 3));
+  auto geom = result_array<uint32_t>(shape), prim = result_array<uint32_t>(shape);
   const rc::ClosestOutput out{q.mutable_data(), geom.mutable_data(), prim.mutable_data(),
                               uvs.mutable_data(), normals.mutable_data()};
   {
@@ -206,9 +205,9 @@ py::dict compute_closest_points(PyScene& s, const py::handle& points_in, int nth
 // compute_distance, compute_signed_distance, compute_occupancy: one float32
 // per point, of the points' leading shape.
 template <typename Query>
-py::array point_floats(const PyScene& s, const py::handle& points_in, Query&& query) {
+py::array point_floats(const py::handle& points_in, Query&& query) {
   const FloatArray points = float_array(points_in, "query_points", 3);
-  auto result = result_array<float>(s, leading(points));
+  auto result = result_array<float>(leading(points));
   {
     py::gil_scoped_release nogil;
     query(std::span<const float>(points.data(), size_t(points.size())), result.mutable_data());
@@ -284,7 +283,7 @@ py::dict info(const PyScene& s) {
   d["build_ms"] = i.build_ms;
   d["memory_bytes"] = i.memory_bytes;
   d["normals_bytes"] = i.normals_bytes;
-  d["result_cache_bytes"] = s.results->cached_bytes();
+  d["result_cache_bytes"] = process_result_memory()->cached_bytes();
   d["geometries"] = i.meshes;
   d["triangles"] = i.triangles;
   d["malformed_answers"] = i.malformed_answers;
@@ -346,9 +345,7 @@ PYBIND11_MODULE(hprt, m) {
   cls.attr("INVALID_ID") = api::kInvalidId;
   cls.def(py::init([](int nthreads, const std::string& backend, const py::kwargs& kwargs) {
             return PyScene{
-                std::make_unique<rc::RaycastingScene>(nthreads, backend, options_of(kwargs)),
-                {},
-                process_result_memory()};
+                std::make_unique<rc::RaycastingScene>(nthreads, backend, options_of(kwargs)), {}};
           }),
           py::arg("nthreads") = 0, py::arg("backend") = "bvh",
           "backend: bvh, embree or plugin:PATH.so[:OPTIONS]; keyword options as the command "
@@ -385,7 +382,7 @@ PYBIND11_MODULE(hprt, m) {
       .def(
           "compute_distance",
           [](PyScene& s, const py::handle& points, int nthreads) {
-            return point_floats(s, points, [&](std::span<const float> p, float* out) {
+            return point_floats(points, [&](std::span<const float> p, float* out) {
               s.scene->compute_distance(p, out, nthreads);
             });
           },
@@ -394,7 +391,7 @@ PYBIND11_MODULE(hprt, m) {
       .def(
           "compute_signed_distance",
           [](PyScene& s, const py::handle& points, int nthreads, int nsamples) {
-            return point_floats(s, points, [&](std::span<const float> p, float* out) {
+            return point_floats(points, [&](std::span<const float> p, float* out) {
               s.scene->compute_signed_distance(p, out, nthreads, nsamples);
             });
           },
@@ -405,7 +402,7 @@ PYBIND11_MODULE(hprt, m) {
       .def(
           "compute_occupancy",
           [](PyScene& s, const py::handle& points, int nthreads, int nsamples) {
-            return point_floats(s, points, [&](std::span<const float> p, float* out) {
+            return point_floats(points, [&](std::span<const float> p, float* out) {
               s.scene->compute_occupancy(p, out, nthreads, nsamples);
             });
           },
