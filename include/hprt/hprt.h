@@ -143,6 +143,16 @@ struct HitColumns {
   std::span<float> normal;
 };
 
+// Rays as numpy and Open3D users hold them: six floats each (origin x, y,
+// z, direction x, y, z; rays.size() a multiple of 6), all with the interval
+// [tnear, tfar]. Backend::intersect reads them in place, a block at a time,
+// instead of needing a copy of the whole batch as Ray records.
+struct RayArray {
+  std::span<const float> rays;
+  float tnear = 0.0f;
+  float tfar = std::numeric_limits<float>::infinity();
+};
+
 // Backend options by the command line's names, without the dashes:
 // threads, builder (sweep|presorted|binned|parallel|morton), bins, leaf_size,
 // sah_traversal, sah_intersection, sah_leaf_block, isect (watertight|mt),
@@ -189,6 +199,7 @@ class HPRT_API Backend {
   // The same answers written as separate arrays (HitColumns) instead of
   // records, with each hit triangle's normal if asked for.
   void intersect(std::span<const Ray> rays, const HitColumns& out) const;
+  void intersect(const RayArray& rays, const HitColumns& out) const;
   void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
 
   // Surface crossings along each ray in (tnear, tfar]: counts[i] for

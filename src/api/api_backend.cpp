@@ -59,22 +59,39 @@ void Backend::intersect(std::span<const Ray> rays, std::span<Hit> hits) const {
   translate_errors([&] { impl_->run([&] { impl_->built().intersect(r, h); }); });
 }
 
-void Backend::intersect(std::span<const Ray> rays, const HitColumns& out) const {
-  const size_t n = rays.size();
+namespace {
+
+// The columns a batch of n rays writes, each checked to hold n entries.
+hprt::HitColumns checked_columns(const HitColumns& out, size_t n) {
   const auto column = [n](auto span, size_t per_ray, const char* name) {
     if (!span.empty() && span.size() < per_ray * n)
       throw std::invalid_argument(std::string("intersect: column ") + name + " holds fewer than " +
                                   std::to_string(per_ray) + " per ray");
     return span.empty() ? nullptr : span.data();
   };
-  const hprt::HitColumns columns{column(out.t, 1, "t"), column(out.geom_id, 1, "geom_id"),
-                                 column(out.prim_id, 1, "prim_id"), column(out.uv, 2, "uv"),
-                                 column(out.normal, 3, "normal")};
+  return {column(out.t, 1, "t"), column(out.geom_id, 1, "geom_id"),
+          column(out.prim_id, 1, "prim_id"), column(out.uv, 2, "uv"),
+          column(out.normal, 3, "normal")};
+}
+
+void intersect_columns(const Backend::Impl& impl, const hprt::RayInput& rays,
+                       const hprt::HitColumns& columns) {
   static const hprt::Scene kNothingBuilt;
-  const hprt::Scene& scene = impl_->scene ? *impl_->scene : kNothingBuilt;
-  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), n);
+  const hprt::Scene& scene = impl.scene ? *impl.scene : kNothingBuilt;
   translate_errors(
-      [&] { impl_->run([&] { impl_->built().intersect_columns(scene, r, columns); }); });
+      [&] { impl.run([&] { impl.built().intersect_columns(scene, rays, columns); }); });
+}
+
+}  // namespace
+
+void Backend::intersect(std::span<const Ray> rays, const HitColumns& out) const {
+  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
+  intersect_columns(*impl_, r, checked_columns(out, rays.size()));
+}
+
+void Backend::intersect(const RayArray& rays, const HitColumns& out) const {
+  const hprt::RayInput r(rays.rays, rays.tnear, rays.tfar);  // checks 6 floats per ray
+  intersect_columns(*impl_, r, checked_columns(out, r.size()));
 }
 
 void Backend::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const {

@@ -142,7 +142,7 @@ class BvhIntersector final : public Intersector {
     });
   }
 
-  void intersect_columns(const Scene& scene, std::span<const Ray> rays,
+  void intersect_columns(const Scene& scene, const RayInput& rays,
                          const HitColumns& out) const override {
     const BusyClock::Scope timed(query_clock());
     with_layout(*this, [&](const auto& bvh) {

@@ -12,15 +12,25 @@
 
 namespace hprt {
 
-void Intersector::intersect_columns(const Scene& scene, std::span<const Ray> rays,
+void Intersector::intersect_columns(const Scene& scene, const RayInput& rays,
                                     const HitColumns& out) const {
   constexpr size_t kChunk = 65536;  // rays per chunk: the records stay in the caches
-  const auto hits = std::make_unique_for_overwrite<Hit[]>(std::min(rays.size(), kChunk));
+  constexpr size_t kGrain = 4096;
+  const size_t chunk_size = std::min(rays.size(), kChunk);
+  const auto hits = std::make_unique_for_overwrite<Hit[]>(chunk_size);
+  // Records are read in place; six-float rays converted a chunk at a time.
+  const auto records = rays.records() ? nullptr : std::make_unique_for_overwrite<Ray[]>(chunk_size);
   for (size_t begin = 0; begin < rays.size(); begin += kChunk) {
     const size_t count = std::min(kChunk, rays.size() - begin);
-    intersect(rays.subspan(begin, count), {hits.get(), count});
+    const Ray* chunk_rays = rays.records() ? rays.records() + begin : records.get();
+    if (records)
+      tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain),
+                        [&](const tbb::blocked_range<size_t>& r) {
+                          rays.block(begin + r.begin(), r.size(), records.get() + r.begin());
+                        });
+    intersect({chunk_rays, count}, {hits.get(), count});
     const HitColumns chunk = out.from(begin);
-    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, 4096),
+    tbb::parallel_for(tbb::blocked_range<size_t>(0, count, kGrain),
                       [&](const tbb::blocked_range<size_t>& r) {
                         for (size_t i = r.begin(); i != r.end(); ++i) {
                           const Hit& h = hits[i];

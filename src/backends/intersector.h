@@ -20,6 +20,7 @@
 #include "core/hit_lists.h"
 #include "core/point_query.h"
 #include "core/ray.h"
+#include "core/ray_input.h"
 #include "core/scene.h"
 #include "core/tree_stats.h"
 
@@ -74,10 +75,12 @@ class Intersector {
   virtual void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const = 0;
   // Closest hits as intersect() answers them, written as columns
   // (core/hit_columns.h) with each hit triangle's unit normal
-  // (core/triangle_normal.h); `scene` is the one built over. The default
-  // traces into records, then copies them and computes each normal from the
-  // scene's vertices; the bvh backend writes the columns as it traces.
-  virtual void intersect_columns(const Scene& scene, std::span<const Ray> rays,
+  // (core/triangle_normal.h); `scene` is the one built over. The rays are
+  // records or six floats each (core/ray_input.h). The default traces a
+  // chunk at a time into records, then copies them and computes each normal
+  // from the scene's vertices; the bvh backend reads the rays a block at a
+  // time and writes the columns as it traces.
+  virtual void intersect_columns(const Scene& scene, const RayInput& rays,
                                  const HitColumns& out) const;
   // Crossings: counts[i] = how many triangles rays[i] hits in (tnear, tfar].
   // The bvh backend's watertight test counts every crossing of a surface

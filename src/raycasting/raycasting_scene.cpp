@@ -132,29 +132,23 @@ void parallel_ranges(size_t n, F&& f) {
 
 }  // namespace
 
-// Rays go through in chunks: each is converted into a reused buffer and
-// traced (in parallel inside the backend, which writes the answers straight
-// into the output columns), so a call touches a few MB of scratch memory
-// instead of allocating the whole batch twice.
+// The other ray queries go through in chunks: each is converted into a
+// reused buffer and traced (in parallel inside the backend), so a call
+// touches a few MB of scratch memory instead of allocating the whole batch
+// twice. cast_rays hands the backend the caller's array itself
+// (api::RayArray), which it reads a block at a time.
 void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads) {
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
-  const auto run = [&] {
-    const size_t n = rays.size() / 6;
-    const auto r = scratch<api::Ray>(std::min(n, kChunk));
-    for (size_t begin = 0; begin < n; begin += kChunk) {
-      const size_t count = std::min(kChunk, n - begin);
-      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.get());
-      b.intersect({r.get(), count},
-                  api::HitColumns{{out.t_hit + begin, count},
-                                  {out.geometry_ids + begin, count},
-                                  {out.primitive_ids + begin, count},
-                                  {out.primitive_uvs + 2 * begin, 2 * count},
-                                  {out.primitive_normals + 3 * begin, 3 * count}});
-    }
-  };
-  with_nthreads(nthreads, run);
+  const size_t n = rays.size() / 6;
+  with_nthreads(nthreads, [&] {
+    b.intersect(api::RayArray{rays, 0.0f, kInf}, api::HitColumns{{out.t_hit, n},
+                                                                 {out.geometry_ids, n},
+                                                                 {out.primitive_ids, n},
+                                                                 {out.primitive_uvs, 2 * n},
+                                                                 {out.primitive_normals, 3 * n}});
+  });
 }
 
 void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, float tfar,

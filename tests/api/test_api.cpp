@@ -220,6 +220,22 @@ TEST(Api, IntersectIntoColumnsOnEveryBackend) {
       ASSERT_EQ(std::memcmp(&some.normal[3 * i], want, 3 * sizeof(float)), 0);
     }
     EXPECT_GT(hit, n / 10) << b->info().name;
+    // The same rays as six floats each (RayArray): the same columns, bit for bit.
+    std::vector<float> six;
+    for (const api::Ray& r : rays) {
+      ASSERT_TRUE(r.tnear == rays[0].tnear && r.tfar == rays[0].tfar);
+      six.insert(six.end(), {r.org_x, r.org_y, r.org_z, r.dir_x, r.dir_y, r.dir_z});
+    }
+    Columns from_six(n);
+    b->intersect(api::RayArray{six, rays[0].tnear, rays[0].tfar}, from_six.all());
+    EXPECT_EQ(std::memcmp(from_six.t.data(), c.t.data(), n * sizeof(float)), 0);
+    EXPECT_EQ(from_six.prim, c.prim);
+    EXPECT_EQ(from_six.geom, c.geom);
+    EXPECT_EQ(std::memcmp(from_six.uv.data(), c.uv.data(), 2 * n * sizeof(float)), 0);
+    EXPECT_EQ(std::memcmp(from_six.normal.data(), c.normal.data(), 3 * n * sizeof(float)), 0);
+    EXPECT_THROW(b->intersect(api::RayArray{std::span<const float>(six).first(six.size() - 1)},
+                              from_six.all()),
+                 std::invalid_argument);
     for (int k = 0; k < 5; ++k) {  // each column one entry short
       Columns s(n);
       api::HitColumns cols = s.all();

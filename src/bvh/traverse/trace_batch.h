@@ -22,6 +22,7 @@
 #include "core/hit_lists.h"
 #include "core/point_query.h"
 #include "core/ray.h"
+#include "core/ray_input.h"
 
 namespace hprt {
 
@@ -33,19 +34,19 @@ inline constexpr size_t kInterleaveMinBytes = size_t{16} << 20;
 
 // Closest hits: hits[i] for rays[i] (hits has at least rays.size() slots),
 // or with `columns` written there instead (hits unused: null).
-void intersect_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays, Hit* hits,
+void intersect_batch(const Bvh2& bvh, TriangleTestKind test, const RayInput& rays, Hit* hits,
                      const HitColumnWriter* columns = nullptr);
-void intersect_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                     Hit* hits, const HitColumnWriter* columns = nullptr);
-void intersect_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                     Hit* hits, const HitColumnWriter* columns = nullptr);
+void intersect_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput& rays, Hit* hits,
+                     const HitColumnWriter* columns = nullptr);
+void intersect_batch(const WideBvh<8>& bvh, TriangleTestKind test, const RayInput& rays, Hit* hits,
+                     const HitColumnWriter* columns = nullptr);
 
 // Any hit: occluded[i] = 1 when rays[i] hits something in its interval, else 0.
-void occluded_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void occluded_batch(const Bvh2& bvh, TriangleTestKind test, const RayInput& rays,
                     uint8_t* occluded);
-void occluded_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void occluded_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput& rays,
                     uint8_t* occluded);
-void occluded_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void occluded_batch(const WideBvh<8>& bvh, TriangleTestKind test, const RayInput& rays,
                     uint8_t* occluded);
 
 // Crossings: counts[i] = how many triangles rays[i] hits in (tnear, tfar],

@@ -5,12 +5,12 @@
 
 namespace hprt {
 
-void intersect_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                     Hit* hits, const HitColumnWriter* columns) {
+void intersect_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput& rays, Hit* hits,
+                     const HitColumnWriter* columns) {
   detail::intersect_batch_any_test(bvh, test, rays, hits, columns);
 }
 
-void occluded_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void occluded_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput& rays,
                     uint8_t* occluded) {
   detail::occluded_batch_any_test(bvh, test, rays, occluded);
 }

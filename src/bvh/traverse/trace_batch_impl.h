@@ -27,6 +27,7 @@
 #include "core/aabb.h"
 #include "core/hit_lists.h"
 #include "core/ray_coherence.h"
+#include "core/ray_input.h"
 
 namespace hprt::detail {
 
@@ -73,73 +74,82 @@ bool interleaves(const Bvh& bvh) {
 }
 
 // kAnyHit writes `occluded`, otherwise `hits`, or `columns` instead when
-// given (Intersector::intersect_columns). In a tree of at least
-// kInterleaveMinBytes the rays of a task that no packet takes are traced
-// several at a time (traverse_interleaved.h), in runs of up to
-// kInterleavedRun; otherwise ray by ray.
+// given (Intersector::intersect_columns). Each task takes its rays in blocks
+// of kRayBlock (RayInput::block: six-float rays are converted there, into a
+// buffer that stays in L1). In a tree of at least kInterleaveMinBytes the
+// rays of a block that no packet takes are traced several at a time
+// (traverse_interleaved.h); otherwise ray by ray.
 template <typename Test, bool kAnyHit, typename Bvh>
-void trace_batch(const Bvh& bvh, std::span<const Ray> rays, Hit* hits, uint8_t* occluded,
+void trace_batch(const Bvh& bvh, const RayInput& input, Hit* hits, uint8_t* occluded,
                  const HitColumnWriter* columns = nullptr) {
   constexpr bool kWide = !std::is_same_v<Bvh, Bvh2>;
-  constexpr size_t kInterleavedRun = 256;
+  constexpr size_t kRayBlock = 256;
+  constexpr size_t kGroupsPerBlock = kRayBlock / kRayGroup;
   const float tolerance = packet_origin_tolerance(bvh);
   const bool interleave = interleaves(bvh);
-  const size_t groups = (rays.size() + kRayGroup - 1) / kRayGroup;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, kRaysPerTask / kRayGroup),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      size_t run[kInterleavedRun];
-                      size_t run_size = 0;
-                      const auto flush = [&] {
-                        if constexpr (kWide)
-                          if (run_size)
-                            traverse_wide_interleaved<Test, kAnyHit>(
-                                bvh, rays.data(), run, run_size, hits, occluded, columns);
-                        run_size = 0;
-                      };
-                      for (size_t g = range.begin(); g != range.end(); ++g) {
-                        const size_t first = g * kRayGroup;
-                        const size_t count = std::min(kRayGroup, rays.size() - first);
-                        const Ray* r = rays.data() + first;
-                        if constexpr (kTracesPackets) {
-                          static_assert(kRayGroup == kPacketSize);
-                          if (count == kRayGroup && rays_coherent(r, kRayGroup, tolerance)) {
-                            // Only the array this query writes is offset (the other is null).
-                            if constexpr (kAnyHit)
-                              traverse_packet<Test, true>(bvh, r, nullptr, occluded + first);
-                            else if (columns) {
-                              const HitColumnWriter lanes = columns->from(first);
-                              traverse_packet<Test, false>(bvh, r, nullptr, nullptr, &lanes);
-                            } else {
-                              traverse_packet<Test, false>(bvh, r, hits + first, nullptr);
-                            }
-                            continue;
-                          }
-                        }
-                        if (interleave) {
-                          if (run_size + count > kInterleavedRun) flush();
-                          for (size_t i = first; i < first + count; ++i) run[run_size++] = i;
-                          continue;
-                        }
-                        for (size_t i = first; i < first + count; ++i) {
-                          Hit h;
-                          ClosestHit answer;
-                          const bool found = ray_is_valid(rays[i]) &&
-                                             trace_one<Test, kAnyHit>(bvh, rays[i], h,
-                                                                      columns ? &answer : nullptr);
-                          if constexpr (kAnyHit)
-                            occluded[i] = found;
-                          else if (columns)
-                            columns->write(answer, i);
-                          else
-                            hits[i] = h;
-                        }
-                      }
-                      flush();
-                    });
+  const size_t n = input.size();
+  const size_t groups = (n + kRayGroup - 1) / kRayGroup;
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, groups, kRaysPerTask / kRayGroup),
+      [&](const tbb::blocked_range<size_t>& range) {
+        alignas(64) Ray buf[kRayBlock];
+        size_t run[kRayBlock];  // indices into the block
+        for (size_t g0 = range.begin(); g0 < range.end(); g0 += kGroupsPerBlock) {
+          const size_t g1 = std::min(range.end(), g0 + kGroupsPerBlock);
+          const size_t base = g0 * kRayGroup;
+          const size_t size = std::min(g1 * kRayGroup, n) - base;
+          const Ray* rays = input.block(base, size, buf);
+          // Only the array this query writes is offset (the others are null).
+          Hit* const block_hits = hits ? hits + base : nullptr;
+          uint8_t* const block_occluded = occluded ? occluded + base : nullptr;
+          const HitColumnWriter block_columns = columns ? columns->from(base) : HitColumnWriter{};
+          const HitColumnWriter* const cols = columns ? &block_columns : nullptr;
+          size_t run_size = 0;
+          for (size_t first = 0; first < size; first += kRayGroup) {
+            const size_t count = std::min(kRayGroup, size - first);
+            const Ray* r = rays + first;
+            if constexpr (kTracesPackets) {
+              static_assert(kRayGroup == kPacketSize);
+              if (count == kRayGroup && rays_coherent(r, kRayGroup, tolerance)) {
+                if constexpr (kAnyHit)
+                  traverse_packet<Test, true>(bvh, r, nullptr, block_occluded + first);
+                else if (cols) {
+                  const HitColumnWriter lanes = cols->from(first);
+                  traverse_packet<Test, false>(bvh, r, nullptr, nullptr, &lanes);
+                } else {
+                  traverse_packet<Test, false>(bvh, r, block_hits + first, nullptr);
+                }
+                continue;
+              }
+            }
+            if (interleave) {
+              for (size_t i = first; i < first + count; ++i) run[run_size++] = i;
+              continue;
+            }
+            for (size_t i = first; i < first + count; ++i) {
+              Hit h;
+              ClosestHit answer;
+              const bool found =
+                  ray_is_valid(rays[i]) &&
+                  trace_one<Test, kAnyHit>(bvh, rays[i], h, cols ? &answer : nullptr);
+              if constexpr (kAnyHit)
+                block_occluded[i] = found;
+              else if (cols)
+                cols->write(answer, i);
+              else
+                block_hits[i] = h;
+            }
+          }
+          if constexpr (kWide)
+            if (run_size)
+              traverse_wide_interleaved<Test, kAnyHit>(bvh, rays, run, run_size, block_hits,
+                                                       block_occluded, cols);
+        }
+      });
 }
 
 template <typename Bvh>
-void intersect_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void intersect_batch_any_test(const Bvh& bvh, TriangleTestKind test, const RayInput& rays,
                               Hit* hits, const HitColumnWriter* columns) {
   if (test == TriangleTestKind::kMoller)
     trace_batch<MollerTest, false>(bvh, rays, hits, nullptr, columns);
@@ -148,7 +158,7 @@ void intersect_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<c
 }
 
 template <typename Bvh>
-void occluded_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void occluded_batch_any_test(const Bvh& bvh, TriangleTestKind test, const RayInput& rays,
                              uint8_t* occluded) {
   if (test == TriangleTestKind::kMoller)
     trace_batch<MollerTest, true>(bvh, rays, nullptr, occluded);
