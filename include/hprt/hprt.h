@@ -145,8 +145,9 @@ struct HitColumns {
 
 // Rays as numpy and Open3D users hold them: six floats each (origin x, y,
 // z, direction x, y, z; rays.size() a multiple of 6), all with the interval
-// [tnear, tfar]. Backend::intersect reads them in place, a block at a time,
-// instead of needing a copy of the whole batch as Ray records.
+// [tnear, tfar]. Backend::intersect (into HitColumns) and occluded read
+// them in place, a block at a time, instead of needing a copy of the whole
+// batch as Ray records.
 struct RayArray {
   std::span<const float> rays;
   float tnear = 0.0f;
@@ -201,6 +202,7 @@ class HPRT_API Backend {
   void intersect(std::span<const Ray> rays, const HitColumns& out) const;
   void intersect(const RayArray& rays, const HitColumns& out) const;
   void occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const;
+  void occluded(const RayArray& rays, std::span<uint8_t> occluded) const;
 
   // Surface crossings along each ray in (tnear, tfar]: counts[i] for
   // rays[i] (counts.size() >= rays.size()). The bvh backend (watertight test,

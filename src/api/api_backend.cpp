@@ -94,12 +94,27 @@ void Backend::intersect(const RayArray& rays, const HitColumns& out) const {
   intersect_columns(*impl_, r, checked_columns(out, r.size()));
 }
 
-void Backend::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const {
+namespace {
+
+void occluded_of(const Backend::Impl& impl, const hprt::RayInput& rays,
+                 std::span<uint8_t> occluded) {
   if (occluded.size() < rays.size())
     throw std::invalid_argument("occluded: fewer results than rays");
-  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
   translate_errors(
-      [&] { impl_->run([&] { impl_->built().occluded(r, occluded.first(rays.size())); }); });
+      [&] { impl.run([&] { impl.built().occluded(rays, occluded.first(rays.size())); }); });
+}
+
+}  // namespace
+
+void Backend::occluded(std::span<const Ray> rays, std::span<uint8_t> occluded) const {
+  occluded_of(
+      *impl_,
+      std::span<const hprt::Ray>(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size()),
+      occluded);
+}
+
+void Backend::occluded(const RayArray& rays, std::span<uint8_t> occluded) const {
+  occluded_of(*impl_, hprt::RayInput(rays.rays, rays.tnear, rays.tfar), occluded);
 }
 
 void Backend::count(std::span<const Ray> rays, std::span<uint32_t> counts) const {

@@ -153,7 +153,7 @@ class BvhIntersector final : public Intersector {
     });
   }
 
-  void occluded(std::span<const Ray> rays, std::span<uint8_t> result) const override {
+  void occluded(const RayInput& rays, std::span<uint8_t> result) const override {
     if (result.size() < rays.size())
       throw std::invalid_argument("occluded: fewer result slots than rays");
     const BusyClock::Scope timed(query_clock());

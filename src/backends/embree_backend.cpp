@@ -139,7 +139,7 @@ class EmbreeIntersector final : public Intersector {
                       });
   }
 
-  void occluded(std::span<const Ray> rays, std::span<uint8_t> result) const override {
+  void occluded(const RayInput& rays, std::span<uint8_t> result) const override {
     if (result.size() < rays.size())
       throw std::invalid_argument("occluded: fewer result slots than rays");
     if (!scene_) throw std::logic_error("embree: occluded() before build()");
@@ -148,10 +148,11 @@ class EmbreeIntersector final : public Intersector {
                       [&](const tbb::blocked_range<size_t>& range) {
                         RTCIntersectContext context;
                         rtcInitIntersectContext(&context);
+                        alignas(64) Ray buf[kPacket];  // six-float rays as records
                         for (size_t g = range.begin(); g != range.end(); ++g) {
                           const size_t first = g * kPacket;
                           const size_t count = std::min(kPacket, rays.size() - first);
-                          const Ray* r = rays.data() + first;
+                          const Ray* r = rays.block(first, count, buf);
                           uint8_t* o = result.data() + first;
                           if (count == kPacket && coherent(r))
                             occluded_packet(context, r, o);

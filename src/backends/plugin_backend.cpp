@@ -127,12 +127,13 @@ class PluginIntersector final : public Intersector {
     });
   }
 
-  void occluded(std::span<const Ray> rays, std::span<uint8_t> result) const override {
+  void occluded(const RayInput& rays, std::span<uint8_t> result) const override {
     if (result.size() < rays.size())
       throw std::invalid_argument("occluded: fewer result slots than rays");
     if (!scene_) throw std::logic_error("plugin: occluded() before build()");
     for_blocks(rays.size(), [&](size_t begin, size_t count) {
-      table_->occluded(backend_, reinterpret_cast<const hprt_ray*>(rays.data() + begin),
+      alignas(64) Ray buf[kBlock];  // six-float rays as the ABI's records
+      table_->occluded(backend_, reinterpret_cast<const hprt_ray*>(rays.block(begin, count, buf)),
                        result.data() + begin, count);
       const auto bad = std::count_if(result.begin() + begin, result.begin() + begin + count,
                                      [](uint8_t o) { return !occlusion_well_formed(o); });

@@ -132,11 +132,11 @@ void parallel_ranges(size_t n, F&& f) {
 
 }  // namespace
 
-// The other ray queries go through in chunks: each is converted into a
-// reused buffer and traced (in parallel inside the backend), so a call
-// touches a few MB of scratch memory instead of allocating the whole batch
-// twice. cast_rays hands the backend the caller's array itself
-// (api::RayArray), which it reads a block at a time.
+// cast_rays and test_occlusions hand the backend the caller's array itself
+// (api::RayArray), which it reads a block at a time. The other ray queries
+// go through in chunks: each is converted into a reused buffer and traced
+// (in parallel inside the backend), so a call touches a few MB of scratch
+// memory instead of allocating the whole batch twice.
 void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads) {
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
@@ -156,16 +156,9 @@ void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, 
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
-  const auto run = [&] {
-    const size_t n = rays.size() / 6;
-    const auto r = scratch<api::Ray>(std::min(n, kChunk));
-    for (size_t begin = 0; begin < n; begin += kChunk) {
-      const size_t count = std::min(kChunk, n - begin);
-      convert(rays.subspan(6 * begin, 6 * count), tnear, tfar, r.get());
-      b.occluded({r.get(), count}, {occluded + begin, count});
-    }
-  };
-  with_nthreads(nthreads, run);
+  with_nthreads(nthreads, [&] {
+    b.occluded(api::RayArray{rays, tnear, tfar}, {occluded, rays.size() / 6});
+  });
 }
 
 void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* counts,

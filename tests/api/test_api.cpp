@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <hprt/hprt.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -236,6 +237,23 @@ TEST(Api, IntersectIntoColumnsOnEveryBackend) {
     EXPECT_THROW(b->intersect(api::RayArray{std::span<const float>(six).first(six.size() - 1)},
                               from_six.all()),
                  std::invalid_argument);
+    // occluded from six floats: the records' answers with the same interval,
+    // one that cuts some hits off too.
+    size_t occluded_count[2] = {0, 0};
+    const float interval[2][2] = {{0.0f, std::numeric_limits<float>::infinity()}, {0.2f, 1.0f}};
+    for (int k = 0; k < 2; ++k) {
+      std::vector<api::Ray> cut = rays;
+      for (api::Ray& r : cut) r.tnear = interval[k][0], r.tfar = interval[k][1];
+      std::vector<uint8_t> want(n), got(n, 7);
+      b->occluded(cut, want);
+      b->occluded(api::RayArray{six, interval[k][0], interval[k][1]}, got);
+      EXPECT_EQ(got, want) << b->info().name;
+      occluded_count[k] = size_t(std::count(want.begin(), want.end(), 1));
+    }
+    EXPECT_GT(occluded_count[0], occluded_count[1]) << b->info().name;
+    EXPECT_GT(occluded_count[1], 0u) << b->info().name;
+    std::vector<uint8_t> short_result(n - 1);
+    EXPECT_THROW(b->occluded(api::RayArray{six}, short_result), std::invalid_argument);
     for (int k = 0; k < 5; ++k) {  // each column one entry short
       Columns s(n);
       api::HitColumns cols = s.all();

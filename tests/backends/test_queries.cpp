@@ -152,7 +152,7 @@ TEST(Queries, PluginsCannotAnswer) {
     void build(const Scene&) override {}
     void update(const Scene&) override {}
     void intersect(std::span<const Ray>, std::span<Hit>) const override {}
-    void occluded(std::span<const Ray>, std::span<uint8_t>) const override {}
+    void occluded(const RayInput&, std::span<uint8_t>) const override {}
     BuildInfo info() const override { return {}; }
   } b;
   std::vector<Ray> rays(1);
