@@ -144,10 +144,13 @@ struct HitColumns {
 };
 
 // Rays as numpy and Open3D users hold them: six floats each (origin x, y,
-// z, direction x, y, z; rays.size() a multiple of 6), all with the interval
-// [tnear, tfar]. Backend::intersect (into HitColumns) and occluded read
-// them in place, a block at a time, instead of needing a copy of the whole
-// batch as Ray records.
+// z, direction x, y, z), all with the same tnear and tfar, the same rays as
+// Ray records with those fields (hits with t in (tnear, tfar]).
+// Backend::intersect (into HitColumns) and occluded take them without a
+// copy of the whole batch as records: the bvh backend converts 256 rays at
+// a time as it traces, the others a chunk at a time. A rays.size() that is
+// not a multiple of 6 throws std::invalid_argument; result spans are sized
+// by the ray count, rays.size() / 6.
 struct RayArray {
   std::span<const float> rays;
   float tnear = 0.0f;
@@ -194,7 +197,7 @@ class HPRT_API Backend {
   // its update() (or build()). A changed set of meshes means a full build.
   void update(const Scene& scene);
 
-  // hits.size() and occluded.size() must be at least rays.size().
+  // hits.size() and occluded.size() must be at least the number of rays.
   // occluded: 1 when some hit has t in (tnear, tfar], else 0.
   void intersect(std::span<const Ray> rays, std::span<Hit> hits) const;
   // The same answers written as separate arrays (HitColumns) instead of

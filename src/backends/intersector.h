@@ -72,7 +72,7 @@ class Intersector {
   virtual void build(const Scene& scene) = 0;
   virtual void update(const Scene& scene) = 0;
   virtual void intersect(std::span<const Ray> rays, std::span<Hit> hits) const = 0;
-  // occluded[i] = 1 when rays[i] hits something in [tnear, tfar]; the rays
+  // occluded[i] = 1 when rays[i] hits something in (tnear, tfar]; the rays
   // are records or six floats each (core/ray_input.h).
   virtual void occluded(const RayInput& rays, std::span<uint8_t> occluded) const = 0;
   // Closest hits as intersect() answers them, written as columns

@@ -18,7 +18,7 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr size_t kGrain = 4096;    // rays per task of the conversions
-constexpr size_t kChunk = 262144;  // rays per chunk of a query (cast_rays)
+constexpr size_t kChunk = 262144;  // rays per chunk of count and list_intersections
 
 void check_nthreads(int nthreads) {
   if (nthreads < 0 || nthreads > api::kMaxThreads)

@@ -254,6 +254,11 @@ TEST(Api, IntersectIntoColumnsOnEveryBackend) {
     EXPECT_GT(occluded_count[1], 0u) << b->info().name;
     std::vector<uint8_t> short_result(n - 1);
     EXPECT_THROW(b->occluded(api::RayArray{six}, short_result), std::invalid_argument);
+    EXPECT_THROW(
+        b->occluded(api::RayArray{std::span<const float>(six).first(six.size() - 1)}, short_result),
+        std::invalid_argument);
+    EXPECT_NO_THROW(b->occluded(api::RayArray{}, {}));  // no rays
+    EXPECT_NO_THROW(b->intersect(api::RayArray{}, api::HitColumns{}));
     for (int k = 0; k < 5; ++k) {  // each column one entry short
       Columns s(n);
       api::HitColumns cols = s.all();

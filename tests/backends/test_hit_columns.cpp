@@ -1,12 +1,15 @@
 // Intersector::intersect_columns on every backend: the same answers as
-// intersect's records, bit for bit, from Ray records or six-float rays, any subset of the columns,
-// and each hit's normal that of the scene's own triangle (core/triangle_normal.h) bit for bit, zero
-// on a miss: for every layout and both triangle tests, coherent rays (packets), single rays and
-// several rays in flight (a tree past kInterleaveMinBytes), invalid rays, an
-// empty scene, and after a refit. Only a tree without vertices (the mt test)
-// keeps a leaf-order table, and counts it in memory_bytes.
+// intersect's records, bit for bit, from Ray records or six-float rays
+// (occluded too), any subset of the columns, and each hit's normal that of
+// the scene's own triangle (core/triangle_normal.h) bit for bit, zero on a
+// miss: for every layout and both triangle tests, coherent rays (packets),
+// single rays and several rays in flight (a tree past kInterleaveMinBytes),
+// invalid rays, an empty scene, and after a refit. Only a tree without
+// vertices (the mt test) keeps a leaf-order table, and counts it in
+// memory_bytes.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -41,19 +44,22 @@ std::vector<Ray> mixed_rays(const AABB& box, size_t n) {
 }
 
 // Rays as six floats with one [tnear, tfar] for all (RayInput, read a block
-// at a time): the answers of the same rays as records, bit for bit. The
-// interval cuts some hits, and the count (not a multiple of a group or a
-// block) leaves a partial group at the end.
+// at a time): the closest hits and occlusion of the same rays as records,
+// bit for bit. The interval cuts some hits off, and the count (not a
+// multiple of a group or a block) leaves a partial group at the end.
 void expect_six_floats(const Intersector& isect, const Scene& scene, std::vector<Ray> rays,
                        const std::string& what) {
   rays.resize(rays.size() - 7);
   const size_t n = rays.size();
+  std::vector<uint8_t> uncut(n);
+  isect.occluded(rays, uncut);
   const float tnear = 0.01f, tfar = 0.5f * length(scene.bounds().diagonal());
   std::vector<float> six;
   for (Ray& r : rays) {
     six.insert(six.end(), {r.org.x, r.org.y, r.org.z, r.dir.x, r.dir.y, r.dir.z});
     r.tnear = tnear, r.tfar = tfar;
   }
+  const RayInput input(six, tnear, tfar);
   std::vector<float> t_records(n), t_six(n, 5.0f), uv_records(2 * n), uv_six(2 * n, 5.0f);
   std::vector<float> normal_records(3 * n), normal_six(3 * n, 5.0f);
   std::vector<uint32_t> prim_records(n), prim_six(n, 5);
@@ -61,16 +67,23 @@ void expect_six_floats(const Intersector& isect, const Scene& scene, std::vector
       scene, rays,
       {t_records.data(), nullptr, prim_records.data(), uv_records.data(), normal_records.data()});
   isect.intersect_columns(
-      scene, RayInput(six, tnear, tfar),
-      {t_six.data(), nullptr, prim_six.data(), uv_six.data(), normal_six.data()});
+      scene, input, {t_six.data(), nullptr, prim_six.data(), uv_six.data(), normal_six.data()});
   EXPECT_EQ(std::memcmp(t_records.data(), t_six.data(), n * sizeof(float)), 0) << what;
   EXPECT_EQ(prim_records, prim_six) << what;
   EXPECT_EQ(std::memcmp(uv_records.data(), uv_six.data(), 2 * n * sizeof(float)), 0) << what;
   EXPECT_EQ(std::memcmp(normal_records.data(), normal_six.data(), 3 * n * sizeof(float)), 0)
       << what;
-  size_t cut = 0;
-  for (size_t i = 0; i < n; ++i) cut += t_records[i] == std::numeric_limits<float>::infinity();
-  EXPECT_GT(cut, 0u) << what;
+  std::vector<uint8_t> occluded_records(n), occluded_six(n, 5);
+  isect.occluded(rays, occluded_records);
+  isect.occluded(input, occluded_six);
+  EXPECT_EQ(occluded_records, occluded_six) << what;
+  // The interval took effect: fewer rays blocked than over [0, inf), where any are.
+  const auto blocked = [](const std::vector<uint8_t>& o) {
+    return size_t(std::count(o.begin(), o.end(), uint8_t{1}));
+  };
+  if (blocked(uncut) > 0) {
+    EXPECT_LT(blocked(occluded_six), blocked(uncut)) << what;
+  }
 }
 
 // Every column, then only the normals and primitive ids (the others null,
