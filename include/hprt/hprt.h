@@ -146,9 +146,10 @@ struct HitColumns {
 // Rays as numpy and Open3D users hold them: six floats each (origin x, y,
 // z, direction x, y, z), all with the same tnear and tfar, the same rays as
 // Ray records with those fields (hits with t in (tnear, tfar]).
-// Backend::intersect (into HitColumns) and occluded take them without a
-// copy of the whole batch as records: the bvh backend converts 256 rays at
-// a time as it traces, the others a chunk at a time. A rays.size() that is
+// Backend::intersect (into HitColumns), occluded, count and intersect_all
+// take them without a copy of the whole batch as records: the bvh backend
+// converts a block of rays at a time as it traces, the others a chunk, a
+// packet or a ray at a time. A rays.size() that is
 // not a multiple of 6 throws std::invalid_argument; result spans are sized
 // by the ray count, rays.size() / 6.
 struct RayArray {
@@ -215,6 +216,7 @@ class HPRT_API Backend {
   // counts every triangle its test hits (a shared edge may count twice or
   // not at all). Plugins cannot answer: Error.
   void count(std::span<const Ray> rays, std::span<uint32_t> counts) const;
+  void count(const RayArray& rays, std::span<uint32_t> counts) const;
 
   // Every crossing along each ray in (tnear, tfar], in order of t (then
   // geom_id, prim_id), at most max_per_ray per ray: ray i's are
@@ -226,6 +228,7 @@ class HPRT_API Backend {
     std::vector<uint8_t> truncated;
   };
   HitLists intersect_all(std::span<const Ray> rays, uint32_t max_per_ray = 1024) const;
+  HitLists intersect_all(const RayArray& rays, uint32_t max_per_ray = 1024) const;
 
   // Point queries; `points` holds x, y, z per point (points.size() a
   // multiple of 3), the results one per point.

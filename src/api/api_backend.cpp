@@ -117,24 +117,46 @@ void Backend::occluded(const RayArray& rays, std::span<uint8_t> occluded) const 
   occluded_of(*impl_, hprt::RayInput(rays.rays, rays.tnear, rays.tfar), occluded);
 }
 
-void Backend::count(std::span<const Ray> rays, std::span<uint32_t> counts) const {
-  if (counts.size() < rays.size()) throw std::invalid_argument("count: fewer results than rays");
-  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
-  translate_errors(
-      [&] { impl_->run([&] { impl_->built().count(r, counts.first(rays.size())); }); });
+namespace {
+
+hprt::RayInput records_of(std::span<const Ray> rays) {
+  return std::span<const hprt::Ray>(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
 }
 
-Backend::HitLists Backend::intersect_all(std::span<const Ray> rays, uint32_t max_per_ray) const {
-  const std::span<const hprt::Ray> r(reinterpret_cast<const hprt::Ray*>(rays.data()), rays.size());
+void count_of(const Backend::Impl& impl, const hprt::RayInput& rays, std::span<uint32_t> counts) {
+  if (counts.size() < rays.size()) throw std::invalid_argument("count: fewer results than rays");
+  translate_errors([&] { impl.run([&] { impl.built().count(rays, counts.first(rays.size())); }); });
+}
+
+Backend::HitLists intersect_all_of(const Backend::Impl& impl, const hprt::RayInput& rays,
+                                   uint32_t max_per_ray) {
   hprt::HitLists lists;
   translate_errors(
-      [&] { impl_->run([&] { impl_->built().intersect_all(r, max_per_ray, lists); }); });
-  HitLists out;
+      [&] { impl.run([&] { impl.built().intersect_all(rays, max_per_ray, lists); }); });
+  Backend::HitLists out;
   out.offsets = std::move(lists.offsets);
   out.truncated = std::move(lists.truncated);
   out.hits.resize(lists.hits.size());
   std::memcpy(out.hits.data(), lists.hits.data(), lists.hits.size() * sizeof(Hit));
   return out;
+}
+
+}  // namespace
+
+void Backend::count(std::span<const Ray> rays, std::span<uint32_t> counts) const {
+  count_of(*impl_, records_of(rays), counts);
+}
+
+void Backend::count(const RayArray& rays, std::span<uint32_t> counts) const {
+  count_of(*impl_, hprt::RayInput(rays.rays, rays.tnear, rays.tfar), counts);
+}
+
+Backend::HitLists Backend::intersect_all(std::span<const Ray> rays, uint32_t max_per_ray) const {
+  return intersect_all_of(*impl_, records_of(rays), max_per_ray);
+}
+
+Backend::HitLists Backend::intersect_all(const RayArray& rays, uint32_t max_per_ray) const {
+  return intersect_all_of(*impl_, hprt::RayInput(rays.rays, rays.tnear, rays.tfar), max_per_ray);
 }
 
 namespace {

@@ -161,7 +161,7 @@ class BvhIntersector final : public Intersector {
       occluded_batch(bvh, options_.triangle_test, rays, result.data());
     });
   }
-  void count(std::span<const Ray> rays, std::span<uint32_t> counts) const override {
+  void count(const RayInput& rays, std::span<uint32_t> counts) const override {
     if (counts.size() < rays.size())
       throw std::invalid_argument("count: fewer result slots than rays");
     const BusyClock::Scope timed(query_clock());
@@ -170,8 +170,7 @@ class BvhIntersector final : public Intersector {
     });
   }
 
-  void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray,
-                     HitLists& out) const override {
+  void intersect_all(const RayInput& rays, uint32_t max_per_ray, HitLists& out) const override {
     const BusyClock::Scope timed(query_clock());
     with_layout(*this, [&](const auto& bvh) {
       all_batch(bvh, options_.triangle_test, rays, max_per_ray, out);

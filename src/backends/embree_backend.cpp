@@ -165,7 +165,7 @@ class EmbreeIntersector final : public Intersector {
   // Every hit through Embree: the same rays with a context filter function
   // that records each hit Embree's test finds and rejects it, so traversal
   // goes on (embree#188's recipe). Rays one by one (rtcIntersect1).
-  void count(std::span<const Ray> rays, std::span<uint32_t> counts) const override {
+  void count(const RayInput& rays, std::span<uint32_t> counts) const override {
     if (counts.size() < rays.size())
       throw std::invalid_argument("count: fewer result slots than rays");
     RTCScene scene = query_scene();
@@ -179,8 +179,7 @@ class EmbreeIntersector final : public Intersector {
                       });
   }
 
-  void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray,
-                     HitLists& out) const override {
+  void intersect_all(const RayInput& rays, uint32_t max_per_ray, HitLists& out) const override {
     RTCScene scene = query_scene();
     const size_t n = rays.size();
     std::vector<std::vector<Hit>> per_ray(n);

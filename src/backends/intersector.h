@@ -89,10 +89,10 @@ class Intersector {
   // exactly once (its fill rule); Embree reports every triangle its test
   // hits, so a ray through a shared edge may count twice or not at all.
   // Backends that cannot answer throw OptionError("query", ...).
-  virtual void count(std::span<const Ray> rays, std::span<uint32_t> counts) const;
+  virtual void count(const RayInput& rays, std::span<uint32_t> counts) const;
   // Every hit of each ray in (tnear, tfar] in order of t, the nearest
   // max_per_ray kept (core/hit_lists.h).
-  virtual void intersect_all(std::span<const Ray> rays, uint32_t max_per_ray, HitLists& out) const;
+  virtual void intersect_all(const RayInput& rays, uint32_t max_per_ray, HitLists& out) const;
   // Point queries (core/point_query.h), out.size() >= points.size().
   // locate: inside, outside or on the surface of the scene's closed meshes
   // (the bvh backend decides exactly; Embree by the parity of its crossing

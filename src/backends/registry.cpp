@@ -23,10 +23,10 @@ std::unique_ptr<Intersector> make_intersector(std::string_view backend,
 }
 
 // Backends without the queries say so (the plugin ABI has no such call).
-void Intersector::count(std::span<const Ray>, std::span<uint32_t>) const {
+void Intersector::count(const RayInput&, std::span<uint32_t>) const {
   throw OptionError("query", "backend " + info().name + " does not answer count queries");
 }
-void Intersector::intersect_all(std::span<const Ray>, uint32_t, HitLists&) const {
+void Intersector::intersect_all(const RayInput&, uint32_t, HitLists&) const {
   throw OptionError("query", "backend " + info().name + " does not answer all-hits queries");
 }
 void Intersector::locate(std::span<const Vec3f>, std::span<PointLocation>) const {

@@ -35,6 +35,13 @@ class RayInput {
   // The records when the rays are records, else null.
   const Ray* records() const { return records_; }
 
+  // Ray i as a record.
+  Ray operator[](size_t i) const {
+    if (records_) return records_[i];
+    const float* q = six_ + 6 * i;
+    return Ray{{q[0], q[1], q[2]}, tnear_, {q[3], q[4], q[5]}, tfar_};
+  }
+
   // Rays [first, first + n) as records: in place, or written into buf (n slots).
   const Ray* block(size_t first, size_t n, Ray* buf) const {
     if (records_) return records_ + first;
@@ -54,10 +61,7 @@ class RayInput {
                        _mm512_mask_permutexvar_ps(interval, 0x7777, spread, six));
     }
 #endif
-    for (; i < n; ++i) {
-      const float* q = r + 6 * i;
-      buf[i] = Ray{{q[0], q[1], q[2]}, tnear_, {q[3], q[4], q[5]}, tfar_};
-    }
+    for (; i < n; ++i) buf[i] = (*this)[first + i];
     return buf;
   }
 

@@ -18,7 +18,7 @@ namespace {
 
 constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr size_t kGrain = 4096;    // rays per task of the conversions
-constexpr size_t kChunk = 262144;  // rays per chunk of count and list_intersections
+constexpr size_t kChunk = 262144;  // rays or points per chunk of a query's results
 
 void check_nthreads(int nthreads) {
   if (nthreads < 0 || nthreads > api::kMaxThreads)
@@ -42,13 +42,6 @@ void parallel_rays(size_t n, F&& f) {
                     [&](const tbb::blocked_range<size_t>& r) {
                       for (size_t i = r.begin(); i != r.end(); ++i) f(i);
                     });
-}
-
-// Per-chunk buffers, left uninitialised: the conversion writes every
-// element in parallel, where zeroing them first would be a serial pass.
-template <typename T>
-std::unique_ptr<T[]> scratch(size_t n) {
-  return std::make_unique_for_overwrite<T[]>(n);
 }
 
 void check_rays(std::span<const float> rays) {
@@ -132,11 +125,9 @@ void parallel_ranges(size_t n, F&& f) {
 
 }  // namespace
 
-// cast_rays and test_occlusions hand the backend the caller's array itself
-// (api::RayArray), which it reads a block at a time. The other ray queries
-// go through in chunks: each is converted into a reused buffer and traced
-// (in parallel inside the backend), so a call touches a few MB of scratch
-// memory instead of allocating the whole batch twice.
+// The ray queries hand the backend the caller's array itself
+// (api::RayArray), which it reads a block at a time; list_intersections a
+// chunk at a time, so the backend's hit lists stay a few MB.
 void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads) {
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
@@ -166,18 +157,11 @@ void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* 
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
-  const auto run = [&] {
-    const size_t n = rays.size() / 6;
-    const auto r = scratch<api::Ray>(std::min(n, kChunk));
-    const auto c = scratch<uint32_t>(std::min(n, kChunk));
-    for (size_t begin = 0; begin < n; begin += kChunk) {
-      const size_t count = std::min(kChunk, n - begin);
-      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.get());
-      b.count({r.get(), count}, {c.get(), count});
-      for (size_t k = 0; k < count; ++k) counts[begin + k] = int32_t(c[k]);
-    }
-  };
-  with_nthreads(nthreads, run);
+  // int32 and uint32 may alias; a count never reaches 2^31 (one per triangle).
+  with_nthreads(nthreads, [&] {
+    b.count(api::RayArray{rays, 0.0f, kInf},
+            {reinterpret_cast<uint32_t*>(counts), rays.size() / 6});
+  });
 }
 
 IntersectionLists RaycastingScene::list_intersections(std::span<const float> rays, int nthreads) {
@@ -187,13 +171,12 @@ IntersectionLists RaycastingScene::list_intersections(std::span<const float> ray
   IntersectionLists out;
   const auto run = [&] {
     const size_t n = rays.size() / 6;
-    const auto r = scratch<api::Ray>(std::min(n, kChunk));
     out.ray_splits.assign(1, 0);
     for (size_t begin = 0; begin < n; begin += kChunk) {
       const size_t count = std::min(kChunk, n - begin);
-      convert(rays.subspan(6 * begin, 6 * count), 0.0f, kInf, r.get());
       const api::Backend::HitLists lists =
-          b.intersect_all({r.get(), count}, std::numeric_limits<uint32_t>::max());
+          b.intersect_all(api::RayArray{rays.subspan(6 * begin, 6 * count), 0.0f, kInf},
+                          std::numeric_limits<uint32_t>::max());
       for (size_t k = 0; k < count; ++k) {
         for (uint64_t j = lists.offsets[k]; j < lists.offsets[k + 1]; ++j) {
           const api::Hit& h = lists.hits[j];

@@ -258,6 +258,21 @@ TEST(Api, IntersectIntoColumnsOnEveryBackend) {
         b->occluded(api::RayArray{std::span<const float>(six).first(six.size() - 1)}, short_result),
         std::invalid_argument);
     EXPECT_NO_THROW(b->occluded(api::RayArray{}, {}));  // no rays
+    if (b != &good) {                                   // plugins cannot count (ABI v1)
+      std::vector<uint32_t> count_records(n), count_six(n, 7);
+      b->count(rays, count_records);
+      b->count(api::RayArray{six, rays[0].tnear, rays[0].tfar}, count_six);
+      EXPECT_EQ(count_records, count_six) << b->info().name;
+      const api::Backend::HitLists all_records = b->intersect_all(rays, 3);
+      const api::Backend::HitLists all_six =
+          b->intersect_all(api::RayArray{six, rays[0].tnear, rays[0].tfar}, 3);
+      EXPECT_EQ(all_records.offsets, all_six.offsets);
+      EXPECT_EQ(all_records.truncated, all_six.truncated);
+      ASSERT_EQ(all_records.hits.size(), all_six.hits.size());
+      EXPECT_EQ(std::memcmp(all_records.hits.data(), all_six.hits.data(),
+                            all_six.hits.size() * sizeof(api::Hit)),
+                0);
+    }
     EXPECT_NO_THROW(b->intersect(api::RayArray{}, api::HitColumns{}));
     for (int k = 0; k < 5; ++k) {  // each column one entry short
       Columns s(n);

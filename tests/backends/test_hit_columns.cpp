@@ -44,9 +44,9 @@ std::vector<Ray> mixed_rays(const AABB& box, size_t n) {
 }
 
 // Rays as six floats with one [tnear, tfar] for all (RayInput, read a block
-// at a time): the closest hits and occlusion of the same rays as records,
-// bit for bit. The interval cuts some hits off, and the count (not a
-// multiple of a group or a block) leaves a partial group at the end.
+// at a time): the closest hits, occlusion, crossing counts and hit lists
+// (cut at two a ray) of the same rays as records, bit for bit. The interval cuts some hits off, and
+// the count (not a multiple of a group or a block) leaves a partial group at the end.
 void expect_six_floats(const Intersector& isect, const Scene& scene, std::vector<Ray> rays,
                        const std::string& what) {
   rays.resize(rays.size() - 7);
@@ -77,6 +77,20 @@ void expect_six_floats(const Intersector& isect, const Scene& scene, std::vector
   isect.occluded(rays, occluded_records);
   isect.occluded(input, occluded_six);
   EXPECT_EQ(occluded_records, occluded_six) << what;
+  std::vector<uint32_t> count_records(n), count_six(n, 5);
+  isect.count(rays, count_records);
+  isect.count(input, count_six);
+  EXPECT_EQ(count_records, count_six) << what;
+  HitLists all_records, all_six;
+  isect.intersect_all(rays, 2, all_records);
+  isect.intersect_all(input, 2, all_six);
+  EXPECT_EQ(all_records.offsets, all_six.offsets) << what;
+  EXPECT_EQ(all_records.truncated, all_six.truncated) << what;
+  ASSERT_EQ(all_records.hits.size(), all_six.hits.size()) << what;
+  EXPECT_EQ(
+      std::memcmp(all_records.hits.data(), all_six.hits.data(), all_six.hits.size() * sizeof(Hit)),
+      0)
+      << what;
   // The interval took effect: fewer rays blocked than over [0, inf), where any are.
   const auto blocked = [](const std::vector<uint8_t>& o) {
     return size_t(std::count(o.begin(), o.end(), uint8_t{1}));

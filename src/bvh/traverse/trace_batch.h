@@ -51,20 +51,19 @@ void occluded_batch(const WideBvh<8>& bvh, TriangleTestKind test, const RayInput
 
 // Crossings: counts[i] = how many triangles rays[i] hits in (tnear, tfar],
 // each crossing of a surface once (the watertight test's fill rule).
-void count_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void count_batch(const Bvh2& bvh, TriangleTestKind test, const RayInput& rays, uint32_t* counts);
+void count_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput& rays,
                  uint32_t* counts);
-void count_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-                 uint32_t* counts);
-void count_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void count_batch(const WideBvh<8>& bvh, TriangleTestKind test, const RayInput& rays,
                  uint32_t* counts);
 
 // Every hit of each ray in (tnear, tfar], the nearest max_per_ray kept
 // (core/hit_lists.h: order and the truncated flags).
-void all_batch(const Bvh2& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void all_batch(const Bvh2& bvh, TriangleTestKind test, const RayInput& rays, uint32_t max_per_ray,
+               HitLists& out);
+void all_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput& rays,
                uint32_t max_per_ray, HitLists& out);
-void all_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
-               uint32_t max_per_ray, HitLists& out);
-void all_batch(const WideBvh<8>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void all_batch(const WideBvh<8>& bvh, TriangleTestKind test, const RayInput& rays,
                uint32_t max_per_ray, HitLists& out);
 
 // The point queries (core/point_query.h); they read the watertight test's

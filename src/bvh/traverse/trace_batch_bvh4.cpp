@@ -15,12 +15,12 @@ void occluded_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput
   detail::occluded_batch_any_test(bvh, test, rays, occluded);
 }
 
-void count_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void count_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput& rays,
                  uint32_t* counts) {
   detail::count_batch_any_test(bvh, test, rays, counts);
 }
 
-void all_batch(const WideBvh<4>& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void all_batch(const WideBvh<4>& bvh, TriangleTestKind test, const RayInput& rays,
                uint32_t max_per_ray, HitLists& out) {
   detail::all_batch_any_test(bvh, test, rays, max_per_ray, out);
 }

@@ -167,7 +167,7 @@ void occluded_batch_any_test(const Bvh& bvh, TriangleTestKind test, const RayInp
 }
 
 template <typename Test, typename Bvh>
-void count_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t* counts) {
+void count_batch_test(const Bvh& bvh, const RayInput& rays, uint32_t* counts) {
   // In a wide tree of at least kInterleaveMinBytes, several rays in flight
   // per thread (traverse_all_interleaved.h), as trace_batch does.
   const bool interleave = interleaves(bvh);
@@ -177,15 +177,24 @@ void count_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t* count
         if constexpr (!std::is_same_v<Bvh, Bvh2>)
           if (interleave) {
             std::fill(counts + range.begin(), counts + range.end(), 0u);
-            traverse_all_interleaved<Test>(
-                bvh, rays.data(), range.begin(), range.size(),
-                [&](size_t i, const LeafRange&, uint32_t, const TriangleHit&) { ++counts[i]; });
+            // Records in one run over the whole range; six-float rays a
+            // block of 256 at a time (RayInput::block), as trace_batch.
+            constexpr size_t kBlock = 256;
+            Ray buf[kBlock];
+            const size_t block = rays.records() ? range.size() : kBlock;
+            for (size_t base = range.begin(); base < range.end(); base += block) {
+              const size_t size = std::min(block, range.end() - base);
+              traverse_all_interleaved<Test>(bvh, rays.block(base, size, buf), 0, size,
+                                             [&](size_t i, const LeafRange&, uint32_t,
+                                                 const TriangleHit&) { ++counts[base + i]; });
+            }
             return;
           }
         for (size_t i = range.begin(); i != range.end(); ++i) {
+          const Ray ray = rays[i];
           uint32_t n = 0;
-          if (ray_is_valid(rays[i]))
-            traverse_all<Test>(bvh, rays[i],
+          if (ray_is_valid(ray))
+            traverse_all<Test>(bvh, ray,
                                [&](const LeafRange&, uint32_t, const TriangleHit&) { ++n; });
           counts[i] = n;
         }
@@ -195,8 +204,7 @@ void count_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t* count
 // Per block of rays its hits, gathered into one array once every block's
 // count is known.
 template <typename Test, typename Bvh>
-void all_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t max_per_ray,
-                    HitLists& out) {
+void all_batch_test(const Bvh& bvh, const RayInput& rays, uint32_t max_per_ray, HitLists& out) {
   const size_t n = rays.size();
   const size_t blocks = (n + kRaysPerTask - 1) / kRaysPerTask;
   std::vector<std::vector<Hit>> block_hits(blocks);
@@ -222,10 +230,11 @@ void all_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t max_per_
     if constexpr (!std::is_same_v<Bvh, Bvh2>)
       if (interleave) {
         std::vector<std::pair<uint32_t, Hit>> tagged;
+        Ray buf[kRaysPerTask];  // the block's rays as records (RayInput::block)
         traverse_all_interleaved<Test>(
-            bvh, rays.data(), first, end - first,
+            bvh, rays.block(first, end - first, buf), 0, end - first,
             [&](size_t i, const LeafRange&, uint32_t t, const TriangleHit& h) {
-              tagged.emplace_back(uint32_t(i - first),
+              tagged.emplace_back(uint32_t(i),
                                   Hit{h.t, h.u, h.v, refs[t].geom_id, refs[t].prim_id});
             });
         std::sort(tagged.begin(), tagged.end(), [](const auto& x, const auto& y) {
@@ -244,8 +253,9 @@ void all_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t max_per_
     std::vector<Hit> ray_hits;
     for (size_t i = first; i < end; ++i) {
       ray_hits.clear();
-      if (ray_is_valid(rays[i]))
-        traverse_all<Test>(bvh, rays[i], [&](const LeafRange&, uint32_t t, const TriangleHit& h) {
+      const Ray ray = rays[i];
+      if (ray_is_valid(ray))
+        traverse_all<Test>(bvh, ray, [&](const LeafRange&, uint32_t t, const TriangleHit& h) {
           ray_hits.push_back(Hit{h.t, h.u, h.v, refs[t].geom_id, refs[t].prim_id});
         });
       std::sort(ray_hits.begin(), ray_hits.end(), hit_list_before);
@@ -262,7 +272,7 @@ void all_batch_test(const Bvh& bvh, std::span<const Ray> rays, uint32_t max_per_
 }
 
 template <typename Bvh>
-void count_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void count_batch_any_test(const Bvh& bvh, TriangleTestKind test, const RayInput& rays,
                           uint32_t* counts) {
   if (test == TriangleTestKind::kMoller)
     count_batch_test<MollerTest>(bvh, rays, counts);
@@ -271,7 +281,7 @@ void count_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const
 }
 
 template <typename Bvh>
-void all_batch_any_test(const Bvh& bvh, TriangleTestKind test, std::span<const Ray> rays,
+void all_batch_any_test(const Bvh& bvh, TriangleTestKind test, const RayInput& rays,
                         uint32_t max_per_ray, HitLists& out) {
   if (test == TriangleTestKind::kMoller)
     all_batch_test<MollerTest>(bvh, rays, max_per_ray, out);
