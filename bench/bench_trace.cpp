@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstdio>
 #include <filesystem>
 #include <iterator>
 #include <limits>
@@ -22,6 +23,7 @@
 #include "bench/trace_suite.h"
 #include "bvh/intersect/ray_triangle_exact.h"
 #include "core/error.h"
+#include "core/hit_check.h"
 #include "core/parallel.h"
 #include "meshgen/mesh_generators.h"
 #include "render/progress.h"
@@ -121,7 +123,8 @@ Table make_rays_table() {
                 {"embree_max_ms", 2},
                 {"embree_mrays_per_s", 2},
                 {"bvh_over_embree", 3},
-                {"bvh_exact_per_mray", 1}});
+                {"bvh_exact_per_mray", 1},
+                {"bvh_malformed", 0}});
 }
 
 struct RenderRow {
@@ -153,6 +156,16 @@ std::vector<RenderRow> time_camera(const Scene& scene, const Camera& cam,
   return out;
 }
 
+// Answers of the timed backend that failed hprt's checks, since `before`: a
+// warning line, so a broken plugin's speed is never read as real.
+uint64_t report_malformed(const Intersector& ours, uint64_t before, const std::string& where) {
+  const uint64_t now = ours.info().malformed_answers;
+  const std::string w = malformed_warning(ours.info().name, now - before);
+  if (!w.empty())
+    std::fprintf(stderr, "hprt bench trace: warning: %s: %s\n", where.c_str(), w.c_str());
+  return now - before;
+}
+
 // Per thread count both backends built once (build excluded), then every
 // focal length and resolution rendered.
 RenderGrid time_renders(const Scene& scene, const std::vector<Resolution>& resolutions,
@@ -171,6 +184,7 @@ RenderGrid time_renders(const Scene& scene, const std::vector<Resolution>& resol
         built.push_back(make_intersector(bo.backend, bo));
         built.back()->build(scene);
       }
+      const uint64_t malformed_before = built[0]->info().malformed_answers;
       for (size_t fi = 0; fi < std::size(kFocalsMm); ++fi)
         for (size_t ri = 0; ri < resolutions.size(); ++ri) {
           Camera cam = scene.camera;
@@ -183,6 +197,8 @@ RenderGrid time_renders(const Scene& scene, const std::vector<Resolution>& resol
             progress.advance();
           }
         }
+      report_malformed(*built[0], malformed_before,
+                       "renders at " + std::to_string(threads[ti]) + " threads");
     });
   }
   return rr;
@@ -220,6 +236,7 @@ void add_render_rows(Table& render, const BenchInput& in, const RenderGrid& rr,
 struct QueryTimes {
   TimingStats bvh, embree;
   double exact_per_ray = 0.0;  // triangle tests decided in exact arithmetic (bvh side)
+  uint64_t malformed = 0;      // a plugin's malformed answers per repetition (core/hit_check.h)
 };
 
 enum class Query { kClosest, kAny, kCount, kInside, kClosestPoint };
@@ -243,7 +260,7 @@ const char* to_string(Query q) {
 // crossing counts on the random rays) through bvh and embree, their
 // repetitions alternating so load changes on a shared machine hit both alike.
 QueryTimes time_query(const std::vector<Ray>& set, Query query, const Intersector& bvh,
-                      const Intersector& embree, int reps) {
+                      const Intersector& embree, int reps, const std::string& where) {
   std::vector<Hit> hits(set.size());
   std::vector<uint8_t> occluded(set.size());
   std::vector<uint32_t> counts(set.size());
@@ -265,9 +282,12 @@ QueryTimes time_query(const std::vector<Ray>& set, Query query, const Intersecto
     for (const Intersector* b : {&bvh, &embree}) b->count(std::span(set).first(1), counts);
   auto trace = [&](const Intersector* b) { return timed_sample([&, b] { run(b); }); };
   const uint64_t exact_before = exact_fallback_count();
+  const uint64_t malformed_before = bvh.info().malformed_answers;
   const std::vector<TimingStats> t = run_round_robin({{reps, trace(&bvh)}, {reps, trace(&embree)}});
   const double runs = double(t[0].repetitions) * double(set.size());
-  return {t[0], t[1], runs > 0 ? double(exact_fallback_count() - exact_before) / runs : 0.0};
+  const uint64_t malformed = report_malformed(bvh, malformed_before, where);
+  return {t[0], t[1], runs > 0 ? double(exact_fallback_count() - exact_before) / runs : 0.0,
+          t[0].repetitions > 0 ? malformed / uint64_t(t[0].repetitions) : malformed};
 }
 
 // The point query of `points` (inside/outside, or the closest point with no
@@ -308,6 +328,7 @@ void add_ray_row(Table& rays, const std::string& scene_label, const std::string&
       .set("embree_mrays_per_s", mrays(n, te.median_ms));
   if (tb.median_ms > 0) row.set("bvh_over_embree", te.median_ms / tb.median_ms);
   row.set("bvh_exact_per_mray", q.exact_per_ray * 1e6);
+  row.set("bvh_malformed", q.malformed);
 }
 
 // Mrays/s of every ray kind at one thread count, the same ray set (seed 1)
@@ -335,12 +356,14 @@ MemoryRow time_ray_kinds(Table& rays, const BenchInput& in, int threads, size_t 
       const std::vector<Ray> set = make_rays(in.scene, kind, n_rays, 1, embree.get());
       const Query query = kind == RayKind::kShadow ? Query::kAny : Query::kClosest;
       const std::string name(to_string(kind));
+      const std::string where =
+          in.label + ", " + name + " rays, " + std::to_string(threads) + " threads";
       add_ray_row(rays, in.label, name, query, set.size(), threads, reps,
-                  time_query(set, query, *bvh, *embree, reps));
+                  time_query(set, query, *bvh, *embree, reps, where));
       // Crossing counts (every hit along the ray) on the same random rays.
       if (kind == RayKind::kRandom && counts_points)
         add_ray_row(rays, in.label, name, Query::kCount, set.size(), threads, reps,
-                    time_query(set, Query::kCount, *bvh, *embree, reps));
+                    time_query(set, Query::kCount, *bvh, *embree, reps, where));
       progress.advance();
     }
     // Point queries: inside/outside of random points in the scene's box and
@@ -417,7 +440,9 @@ void add_notes(BenchReport& report, Table& render, Table& rays,
       "large-mesh suite (rows named bumpy-, soup-, sheet- and by mesh file) alike. "
       "bvh_exact_per_mray = triangle tests of the bvh backend's watertight test whose edge "
       "function signs its double error bound could not decide and exact arithmetic did, per "
-      "million rays (rays exactly through or within about 1e-15 of an edge or vertex).");
+      "million rays (rays exactly through or within about 1e-15 of an edge or vertex). "
+      "bvh_malformed = answers of the timed backend that failed hprt's answer checks, per "
+      "repetition (a plugin's; always 0 for bvh).");
 }
 
 }  // namespace

@@ -12,7 +12,6 @@
 #include <cmath>
 #include <filesystem>
 #include <limits>
-#include <map>
 #include <span>
 #include <string>
 #include <vector>
@@ -28,21 +27,25 @@ namespace {
 using FloatArray = py::array_t<float, py::array::c_style | py::array::forcecast>;
 using IdArray = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>;
 
-// A float array of shape (..., last), float32 C-contiguous (read in place
-// when it already is; float64 and other real dtypes converted once).
-FloatArray float_array(const py::handle& obj, const char* name, py::ssize_t last) {
+// A float array of shape (..., last), or (N, last) when `two_d`, float32
+// C-contiguous (read in place when it already is; float64 and other real
+// dtypes converted once).
+FloatArray float_array(const py::handle& obj, const char* name, py::ssize_t last,
+                       bool two_d = false) {
   py::array a = py::array::ensure(obj);
   if (!a) throw py::type_error(std::string(name) + ": expected an array-like of numbers");
   const char kind = a.dtype().kind();
   if (kind != 'f' && kind != 'i' && kind != 'u' && kind != 'b')
     throw py::type_error(std::string(name) + ": expected a real dtype, got " +
                          std::string(py::str(a.dtype())));
-  if (a.ndim() < 1 || a.shape(a.ndim() - 1) != last)
-    throw py::value_error(
-        std::string(name) + ": expected shape (..., " + std::to_string(last) + "), got " +
-        std::string(py::str(
-            py::tuple(py::cast(std::vector<py::ssize_t>(a.shape(), a.shape() + a.ndim()))))));
-  return FloatArray::ensure(a);
+  if (a.ndim() < 1 || a.shape(a.ndim() - 1) != last || (two_d && a.ndim() != 2))
+    throw py::value_error(std::string(name) + ": expected shape (" + (two_d ? "N" : "...") + ", " +
+                          std::to_string(last) + "), got " +
+                          std::string(py::str(py::tuple(py::cast(
+                              std::vector<py::ssize_t>(a.shape(), a.shape() + a.ndim()))))));
+  // The converting constructor, not ensure(): a failed conversion (numpy's
+  // MemoryError) propagates instead of being cleared into a null array.
+  return FloatArray(a);
 }
 
 // (M, 3) triangle indices of any integer dtype, each in [0, vertices).
@@ -52,14 +55,27 @@ IdArray index_array(const py::handle& obj, size_t vertices) {
     throw py::type_error("triangle_indices: expected an integer array-like");
   if (a.ndim() != 2 || a.shape(1) != 3)
     throw py::value_error("triangle_indices: expected shape (M, 3)");
-  // Range checks in int64 so that negative and > 2^32 values are caught before the cast.
-  auto wide = py::array_t<int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
-  const int64_t* p = wide.data();
-  for (py::ssize_t i = 0; i < wide.size(); ++i)
-    if (p[i] < 0 || uint64_t(p[i]) >= vertices)
-      throw py::value_error("triangle_indices: index " + std::to_string(p[i]) + " out of range (" +
-                            std::to_string(vertices) + " vertices)");
-  return IdArray::ensure(a.dtype().is(py::dtype::of<uint32_t>()) ? a : py::array(wide));
+  // Range checks in 64 bits (uint64 for unsigned dtypes, else int64) so that
+  // negative and > 2^32 values are caught, and named, before the cast.
+  IdArray ids;
+  if (a.dtype().kind() == 'u') {
+    const py::array_t<uint64_t, py::array::c_style | py::array::forcecast> wide(a);
+    const uint64_t* p = wide.data();
+    for (py::ssize_t i = 0; i < wide.size(); ++i)
+      if (p[i] >= vertices)
+        throw py::value_error("triangle_indices: index " + std::to_string(p[i]) +
+                              " out of range (" + std::to_string(vertices) + " vertices)");
+    ids = IdArray(a.dtype().is(py::dtype::of<uint32_t>()) ? a : py::array(wide));
+  } else {
+    const py::array_t<int64_t, py::array::c_style | py::array::forcecast> wide(a);
+    const int64_t* p = wide.data();
+    for (py::ssize_t i = 0; i < wide.size(); ++i)
+      if (p[i] < 0 || uint64_t(p[i]) >= vertices)
+        throw py::value_error("triangle_indices: index " + std::to_string(p[i]) +
+                              " out of range (" + std::to_string(vertices) + " vertices)");
+    ids = IdArray(wide);
+  }
+  return ids;
 }
 
 // The leading dimensions of an (..., k) array.
@@ -101,10 +117,11 @@ const std::shared_ptr<api::ResultMemory>& process_result_memory() {
   return *memory;
 }
 
-// A scene and the arrays it shares (kept alive here per geometry).
+// A scene: it copies the arrays it is given, as Open3D's does, so the
+// caller may reuse or change them (and a plugin may keep pointers into the
+// scene's own, plugin.h).
 struct PyScene {
   std::unique_ptr<rc::RaycastingScene> scene;
-  std::map<uint32_t, std::pair<py::object, py::object>> kept;
 };
 
 // A fresh, uninitialised C-contiguous array from process_result_memory();
@@ -136,6 +153,14 @@ py::array_t<T> result_array(const std::vector<py::ssize_t>& shape) {
   return py::array_t<T>(shape, static_cast<T*>(block->p), owner);
 }
 
+// A plugin's malformed answers since `before` (RaycastingScene::malformed_since)
+// as a RuntimeWarning, the CLI's warning line.
+void warn_malformed(const PyScene& s, uint64_t before) {
+  const std::string w = s.scene->malformed_since(before);
+  if (!w.empty() && PyErr_WarnEx(PyExc_RuntimeWarning, w.c_str(), 1) != 0)
+    throw py::error_already_set();
+}
+
 py::dict cast_rays(PyScene& s, const py::handle& rays_in, int nthreads) {
   const FloatArray rays = float_array(rays_in, "rays", 6);
   const std::vector<py::ssize_t> shape = leading(rays);
@@ -144,10 +169,12 @@ py::dict cast_rays(PyScene& s, const py::handle& rays_in, int nthreads) {
   auto geom = result_array<uint32_t>(shape), prim = result_array<uint32_t>(shape);
   const rc::CastOutput out{t.mutable_data(), geom.mutable_data(), prim.mutable_data(),
                            uvs.mutable_data(), normals.mutable_data()};
+  const uint64_t malformed = s.scene->info().malformed_answers;
   {
     py::gil_scoped_release nogil;
     s.scene->cast_rays({rays.data(), size_t(rays.size())}, out, nthreads);
   }
+  warn_malformed(s, malformed);
   py::dict d;
   d["t_hit"] = t;
   d["geometry_ids"] = geom;
@@ -162,11 +189,13 @@ py::array test_occlusions(PyScene& s, const py::handle& rays_in, float tnear, fl
   const FloatArray rays = float_array(rays_in, "rays", 6);
   auto occluded = result_array<bool>(leading(rays));
   static_assert(sizeof(bool) == 1);
+  const uint64_t malformed = s.scene->info().malformed_answers;
   {
     py::gil_scoped_release nogil;
     s.scene->test_occlusions({rays.data(), size_t(rays.size())}, tnear, tfar,
                              reinterpret_cast<uint8_t*>(occluded.mutable_data()), nthreads);
   }
+  warn_malformed(s, malformed);
   return occluded;
 }
 
@@ -240,12 +269,23 @@ py::dict list_intersections(PyScene& s, const py::handle& rays_in, int nthreads)
   return d;
 }
 
+// A file path given as str, bytes or os.PathLike (pathlib.Path), as
+// Python's own file functions take it; `what` names the call for a TypeError.
+std::string path_of(const py::handle& obj, const char* what) {
+  if (!py::isinstance<py::str>(obj) && !py::isinstance<py::bytes>(obj) &&
+      !py::hasattr(obj, "__fspath__"))
+    throw py::type_error(std::string(what) + ": expected a path (str, bytes or os.PathLike)");
+  const py::module_ os = py::module_::import("os");
+  return py::str(os.attr("fsdecode")(os.attr("fspath")(obj)));
+}
+
 uint32_t add_triangles(PyScene& s, const py::object& first, const py::object& second) {
   if (second.is_none()) {
-    if (!py::isinstance<py::str>(first) && !py::hasattr(first, "__fspath__"))
+    if (!py::isinstance<py::str>(first) && !py::isinstance<py::bytes>(first) &&
+        !py::hasattr(first, "__fspath__"))
       throw py::type_error(
           "add_triangles: expected (vertex_positions, triangle_indices) or a path");
-    const std::string path = py::str(py::module_::import("os").attr("fspath")(first));
+    const std::string path = path_of(first, "add_triangles");
     try {
       py::gil_scoped_release nogil;
       return s.scene->add_triangles(path);
@@ -253,27 +293,17 @@ uint32_t add_triangles(PyScene& s, const py::object& first, const py::object& se
       rethrow_for_path(e, path);
     }
   }
-  const FloatArray v = float_array(first, "vertex_positions", 3);
-  if (v.ndim() != 2) throw py::value_error("vertex_positions: expected shape (N, 3)");
+  const FloatArray v = float_array(first, "vertex_positions", 3, /*two_d=*/true);
   const IdArray i = index_array(second, size_t(v.shape(0)));
-  uint32_t id;
-  {
-    py::gil_scoped_release nogil;
-    id = s.scene->add_triangles({v.data(), size_t(v.size())}, {i.data(), size_t(i.size())},
-                                /*shared=*/true);
-  }
-  s.kept[id] = {v, i};
-  return id;
+  py::gil_scoped_release nogil;
+  return s.scene->add_triangles({v.data(), size_t(v.size())}, {i.data(), size_t(i.size())},
+                                /*shared=*/false);
 }
 
 void update_triangles(PyScene& s, uint32_t id, const py::handle& vertices) {
-  const FloatArray v = float_array(vertices, "vertex_positions", 3);
-  if (v.ndim() != 2) throw py::value_error("vertex_positions: expected shape (N, 3)");
-  {
-    py::gil_scoped_release nogil;
-    s.scene->update_triangles(id, {v.data(), size_t(v.size())}, /*shared=*/true);
-  }
-  if (s.kept.count(id)) s.kept[id].first = v;
+  const FloatArray v = float_array(vertices, "vertex_positions", 3, /*two_d=*/true);
+  py::gil_scoped_release nogil;
+  s.scene->update_triangles(id, {v.data(), size_t(v.size())}, /*shared=*/false);
 }
 
 py::dict info(const PyScene& s) {
@@ -345,7 +375,7 @@ PYBIND11_MODULE(hprt, m) {
   cls.attr("INVALID_ID") = api::kInvalidId;
   cls.def(py::init([](int nthreads, const std::string& backend, const py::kwargs& kwargs) {
             return PyScene{
-                std::make_unique<rc::RaycastingScene>(nthreads, backend, options_of(kwargs)), {}};
+                std::make_unique<rc::RaycastingScene>(nthreads, backend, options_of(kwargs))};
           }),
           py::arg("nthreads") = 0, py::arg("backend") = "bvh",
           "backend: bvh, embree or plugin:PATH.so[:OPTIONS]; keyword options as the command "
@@ -353,10 +383,14 @@ PYBIND11_MODULE(hprt, m) {
           "update='refit' (auto, rebuild, refit or adaptive; default auto), ...)")
       .def("add_triangles", &add_triangles, py::arg("vertex_positions"),
            py::arg("triangle_indices") = py::none(),
-           "(N,3) vertices and (M,3) triangle indices (float32 and uint32 C-contiguous arrays "
-           "are used in place), or a mesh file path; returns the geometry id")
+           "(N,3) vertices and (M,3) triangle indices (copied, as Open3D copies them: the "
+           "caller may change or reuse its arrays), or a mesh file path (str, bytes or "
+           "os.PathLike); returns the geometry id")
       .def("update_triangles", &update_triangles, py::arg("geometry_id"),
-           py::arg("vertex_positions"), "moved vertices of a geometry (same count)")
+           py::arg("vertex_positions"),
+           "moved vertices of a geometry (same count), copied; the next query refits or "
+           "rebuilds per the backend's update option. Adding or moving triangles waits for "
+           "the queries under way in other threads, and later queries wait for it")
       .def("cast_rays", &cast_rays, py::arg("rays"), py::arg("nthreads") = 0,
            "closest hits of (..., 6) rays [ox, oy, oz, dx, dy, dz]: a dict of t_hit (inf on a "
            "miss), geometry_ids and primitive_ids (INVALID_ID on a miss), primitive_uvs (..., 2) "
@@ -364,13 +398,14 @@ PYBIND11_MODULE(hprt, m) {
            "the same bits on every backend, 0 on a miss")
       .def("test_occlusions", &test_occlusions, py::arg("rays"), py::arg("tnear") = 0.0f,
            py::arg("tfar") = std::numeric_limits<float>::infinity(), py::arg("nthreads") = 0,
-           "whether anything is hit with t in (tnear, tfar] along each ray")
+           "whether anything is hit with t in (tnear, tfar] along each ray (a bool array of "
+           "the leading shape); 0 <= tnear <= tfar, else ValueError")
       .def("count_intersections", &count_intersections, py::arg("rays"), py::arg("nthreads") = 0,
            "surface crossings along each of (..., 6) rays, an int32 array of the leading shape; "
            "the bvh backend counts a ray exactly through a shared edge or vertex once (a fill "
            "rule), so the parity tells inside from outside for closed meshes")
       .def("list_intersections", &list_intersections, py::arg("rays"), py::arg("nthreads") = 0,
-           "every crossing along each ray, nearest first: a dict of ray_splits (int32, rays + 1: "
+           "every crossing along each ray, nearest first: a dict of ray_splits (uint32, rays + 1: "
            "ray i's crossings are [ray_splits[i], ray_splits[i+1])), ray_ids, geometry_ids, "
            "primitive_ids (uint32), primitive_uvs (float32, (k, 2)) and t_hit (float32)")
       .def("compute_closest_points", &compute_closest_points, py::arg("query_points"),
@@ -446,13 +481,15 @@ PYBIND11_MODULE(hprt, m) {
         "per-ray verdicts and the counts and summary `hprt validate rays` prints");
   m.def(
       "render",
-      [](const std::string& scene_path, int width, int height, const std::string& backend,
+      [](const py::object& path, int width, int height, const std::string& backend,
          const py::kwargs& kwargs) {
+        const std::string scene_path = path_of(path, "render");
+        const api::Options options = options_of(kwargs);  // Python objects: with the GIL
         api::Image img;
         try {
           py::gil_scoped_release nogil;
           const api::Scene scene = api::Scene::from_file(scene_path);
-          api::Backend b(backend, options_of(kwargs));
+          api::Backend b(backend, options);
           b.build(scene);
           img = api::render(scene, b, width, height);
         } catch (const api::Error& e) {
@@ -466,7 +503,8 @@ PYBIND11_MODULE(hprt, m) {
       py::arg("backend") = "bvh", "a Whitted render: (H, W, 3) float32 linear RGB");
   m.def(
       "load_mesh",
-      [](const std::string& path) {
+      [](const py::object& path_like) {
+        const std::string path = path_of(path_like, "load_mesh");
         api::MeshArrays mesh;
         try {
           py::gil_scoped_release nogil;

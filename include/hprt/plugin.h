@@ -13,9 +13,10 @@
  *    to build(); u, v are the barycentrics of vertices 1 and 2 of the triangle
  *    (the hit point is (1-u-v)*v0 + u*v1 + v*v2);
  *  - a miss has t = +inf and geom_id = prim_id = 0xFFFFFFFF (u, v unused);
- *  - rays with a NaN or infinite component, a component of magnitude above
- *    1.844e18 (Embree's FLT_LARGE), a zero direction, tnear < 0 or not
- *    tnear <= tfar miss (occluded = 0);
+ *  - rays whose origin or direction has a NaN or infinite component or one of
+ *    magnitude above 1.844e18 (Embree's FLT_LARGE), a zero direction,
+ *    tnear < 0 or not tnear <= tfar miss (occluded = 0); tfar = +inf (most
+ *    rays' own) is valid;
  *  - triangles with an index out of range, a non-finite vertex or zero area
  *    are never hit.
  *
@@ -24,24 +25,38 @@
  * called), so a plugin needs no thread pool of its own; both must be safe to
  * call concurrently on one built backend. create(), build(), update() and
  * destroy() are never called concurrently with anything on the same backend.
+ * A call gets 1 to 256 rays (any count, not only multiples of 16); records
+ * are aligned to 16 bytes, not more. intersect() must write every hit record
+ * of its call (a miss too) and occluded() every byte: hprt does not
+ * pre-fill them, and a record left as it was counts as malformed (below).
  * `threads` in create() is the thread count the user asked for (0 = every
  * hardware thread); a plugin may use it to size its own build.
  *
  * Memory: the arrays in hprt_mesh belong to hprt and stay valid from build()
- * (or update()) until the next build() or destroy(); a plugin may keep
- * pointers into them instead of copying. For a deformed frame hprt may write
- * the new vertices into those same arrays before it calls update(), so a
- * plugin must not use them between the end of a query batch and update().
- * update() gets the same meshes as the last build() (same counts and
- * indices); when they differ, hprt calls build() instead.
+ * (or update()) until the next build(), update() or destroy(); a plugin may
+ * keep pointers into them instead of copying, taking them again from each
+ * update(). hprt writes a deformed frame's vertices into those same arrays
+ * before it calls update() (the command line's animations and the Python
+ * module's update_triangles do; a C++ program's shared mesh may come with
+ * new arrays instead), so a plugin must not use them between the end of a
+ * query batch and update(). update() gets the same meshes as
+ * the last build() (same counts and indices); when they differ, or the user
+ * asked for --update rebuild, hprt calls build() instead. build() may get no
+ * meshes (mesh_count 0, meshes NULL: an empty scene, whose rays all miss).
+ *
+ * Loading: `plugin:PATH.so[:OPTIONS]` takes PATH up to the next colon, so a
+ * plugin's path cannot contain one (options may).
  *
  * Trust: hprt checks every answer. A hit with t not finite or outside
  * (tnear, tfar], on a ray that must miss, with an id out of range, or with
  * u, v outside the triangle, and an occlusion byte other than 0 or 1, is
  * malformed: `hprt validate rays` and `hprt bench frontier` count it as
  * wrong; every other command treats a malformed hit as a miss (reported
- * with t = NaN) and a malformed byte as occluded. A plugin runs inside hprt's process: a plugin
- * that crashes or corrupts memory takes hprt down with it, as any in-process plugin would.
+ * with t = NaN, in Python's t_hit too) and a malformed byte as occluded, and
+ * warns with their count (the command's one stderr line, a Python
+ * RuntimeWarning, `malformed_answers` in the JSON and info()). A plugin runs
+ * inside hprt's process: a plugin that crashes or corrupts memory takes hprt
+ * down with it, as any in-process plugin would.
  *
  * Errors: create(), build() and update() report failure (NULL resp. nonzero)
  * with a one-line message written into `error` (at most error_size bytes,

@@ -87,20 +87,26 @@ def test_nan_rays_miss_and_empty_scene():
     assert empty.info()["triangles"] == 0
 
 
-def test_arrays_are_used_in_place_and_update_triangles():
+def test_arrays_are_copied_and_update_triangles():
     v, t = grid(8)
+    rays = np.array([down(0.3, -0.2), down(5.3, -0.2)], np.float32)
     for update in ["auto", "refit", "rebuild", "adaptive"]:
         scene = hprt.RaycastingScene(update=update)
-        gid = scene.add_triangles(v, t)
-        rays = np.array([down(0.3, -0.2)], np.float32)
-        assert scene.cast_rays(rays)["t_hit"][0] == pytest.approx(2.0)
+        # The scene copies its arrays, as Open3D's does: one buffer reused
+        # for two geometries gives two geometries.
+        buf = v.copy()
+        gid = scene.add_triangles(buf, t)
+        buf[:, 0] += 5.0
+        assert scene.add_triangles(buf, t) == gid + 1
+        ans = scene.cast_rays(rays)
+        assert ans["t_hit"].tolist() == [2.0, 2.0] and ans["geometry_ids"].tolist() == [0, 1]
         moved = v.copy()
         moved[:, 2] = -1.0
         scene.update_triangles(gid, moved)
-        assert scene.cast_rays(rays)["t_hit"][0] == pytest.approx(3.0)
-        # The scene reads the float32 array in place: changing it in place and
-        # updating again with the same array moves the surface.
+        assert scene.cast_rays(rays)["t_hit"].tolist() == [3.0, 2.0]
+        # Changing the array afterwards changes nothing until update_triangles.
         moved[:, 2] = 0.5
+        assert scene.cast_rays(rays)["t_hit"].tolist() == [3.0, 2.0]
         scene.update_triangles(gid, moved)
         assert scene.cast_rays(rays)["t_hit"][0] == pytest.approx(1.5)
 
@@ -322,14 +328,14 @@ def test_bad_input_raises_with_the_cli_message(tmp_path):
     with pytest.raises(hprt.Error, match="plugin file not found"):
         hprt.RaycastingScene(backend="plugin:/no/such/plugin.so")
     with pytest.raises(hprt.Error, match="nthreads"):
-        hprt.RaycastingScene(nthreads=-1)
+        hprt.RaycastingScene(nthreads=4097)
     with pytest.raises(hprt.Error, match="width_px, height_px: 100000 x 100000 rays"):
         hprt.RaycastingScene.create_rays_pinhole(60, [0, 0, 0], [0, 0, 1], [0, 1, 0],
                                                  100000, 100000)
     with pytest.raises(ValueError, match="render: image size above 65536"):
         hprt.render(os.path.join(SOURCE, "data", "scenes", "single_13mm.json"), 70000, 10)
-    for n in (-1, 4097, 10**9):  # per call too (a huge task arena crashed oneTBB)
-        with pytest.raises(hprt.Error, match=r"nthreads: must be in \[0, 4096\]"):
+    for n in (4097, 10**9):  # per call too (a huge task arena crashed oneTBB)
+        with pytest.raises(hprt.Error, match=r"nthreads: must be at most 4096"):
             scene.cast_rays(np.zeros((1, 6), np.float32), nthreads=n)
         with pytest.raises(hprt.Error, match="nthreads"):
             scene.compute_distance(np.zeros((1, 3), np.float32), nthreads=n)
@@ -385,7 +391,7 @@ def test_list_intersections_keys_dtypes_and_order():
     ans = scene.list_intersections(rays)
     assert set(ans) == {"ray_splits", "ray_ids", "geometry_ids", "primitive_ids",
                         "primitive_uvs", "t_hit"}
-    assert ans["ray_splits"].dtype == np.int32 and ans["ray_splits"].tolist() == [0, 2, 2, 3]
+    assert ans["ray_splits"].dtype == np.uint32 and ans["ray_splits"].tolist() == [0, 2, 2, 3]
     assert ans["ray_ids"].dtype == np.uint32 and ans["ray_ids"].tolist() == [0, 0, 2]
     assert ans["primitive_uvs"].shape == (3, 2) and ans["primitive_uvs"].dtype == np.float32
     np.testing.assert_allclose(ans["t_hit"], [4.0, 6.0, 0.5])
@@ -563,3 +569,141 @@ def test_cast_rays_normals_are_the_same_bits_on_every_backend(moved):
         assert same.mean() > 0.99, key
         np.testing.assert_array_equal(ans["primitive_normals"][same],
                                       first["primitive_normals"][same], err_msg=str(key))
+
+
+def test_open3d_conventions_paths_and_render_options(tmp_path):
+    import pathlib
+    v, t = grid(4)
+    # nthreads <= 0 means every hardware thread, as in Open3D.
+    scene = hprt.RaycastingScene(nthreads=-1)
+    scene.add_triangles(v, t)
+    assert scene.info()["backend"].startswith("bvh/")  # named before the first query too
+    assert scene.cast_rays([down(0.1, 0.1)], nthreads=-3)["t_hit"][0] == pytest.approx(2.0)
+    obj = tmp_path / "tri.obj"
+    obj.write_text("v -1 -1 0\nv 1 -1 0\nv 0 1 0\nf 1 2 3\n")
+    for path in (obj, str(obj), os.fsencode(str(obj))):  # PathLike, str, bytes everywhere
+        assert hprt.load_mesh(path)[1].tolist() == [[0, 1, 2]]
+        assert hprt.RaycastingScene().add_triangles(path) == 0
+        assert hprt.render(path, 8, 6).shape == (6, 8, 3)
+    with pytest.raises(TypeError, match="load_mesh: expected a path"):
+        hprt.load_mesh(42)
+    # Backend options of render (Python objects read before the GIL is released).
+    img = hprt.render(obj, 16, 12, builder="morton", robust=True)
+    assert img.shape == (12, 16, 3)
+    with pytest.raises(hprt.Error, match="leaf_size"):
+        hprt.render(obj, 8, 6, leaf_size=-3)
+    with pytest.raises(hprt.Error, match="unknown backend option"):
+        hprt.render(pathlib.Path(obj), 8, 6, frobnicate=1)
+
+
+def test_occlusion_interval_and_index_messages():
+    v, t = grid(2)
+    scene = hprt.RaycastingScene()
+    scene.add_triangles(v, t)
+    r = [down(0.1, 0.1)]
+    assert scene.test_occlusions(r, tnear=0.0, tfar=2.0).tolist() == [True]
+    for tnear, tfar in ((-0.5, 3.0), (2.0, 1.0), (float("nan"), 1.0)):
+        with pytest.raises(ValueError, match="tnear, tfar: need 0 <= tnear <= tfar"):
+            scene.test_occlusions(r, tnear=tnear, tfar=tfar)
+    with pytest.raises(ValueError, match="index 9223372036854775813 out of range"):
+        scene.add_triangles(v, np.array([[0, 1, 2**63 + 5]], np.uint64))
+    with pytest.raises(ValueError, match=r"vertex_positions: expected shape \(N, 3\)"):
+        scene.add_triangles(np.zeros((2, 4, 3), np.float32), t)
+
+
+def test_conversion_out_of_memory_is_a_memory_error():
+    # A float64 array whose float32 copy cannot be made: numpy's MemoryError,
+    # not a crash (in a child process, whose address space is capped).
+    import subprocess
+    import sys
+    code = (
+        "import resource, numpy as np, hprt\n"
+        "s = hprt.RaycastingScene()\n"
+        "s.add_triangles(np.float32([[0,0,0],[1,0,0],[0,1,0]]), np.uint32([[0,1,2]]))\n"
+        "s.cast_rays(np.float32([[0.2,0.2,-1,0,0,1]]))\n"
+        "soft, hard = resource.getrlimit(resource.RLIMIT_AS)\n"
+        "used = int(open('/proc/self/statm').read().split()[0]) * resource.getpagesize()\n"
+        "resource.setrlimit(resource.RLIMIT_AS, (used + (512 << 20), hard))\n"
+        "rays = np.broadcast_to(np.float64([0.2,0.2,-1,0,0,1]), (200_000_000, 6))\n"
+        "for f in (s.cast_rays, s.test_occlusions, s.count_intersections, s.list_intersections):\n"
+        "    try:\n"
+        "        f(rays)\n"
+        "    except MemoryError:\n"
+        "        continue\n"
+        "    raise SystemExit('no MemoryError from ' + f.__name__)\n"
+        "print('ok')\n")
+    r = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                       env=os.environ, timeout=120)
+    assert r.returncode == 0 and r.stdout.strip() == "ok", r.stderr
+
+
+def test_moving_triangles_while_other_threads_query():
+    # add_triangles and update_triangles wait for the queries under way (the
+    # closest-point query reads the normals a change remakes).
+    import threading
+    v, t = grid(24)
+    scene = hprt.RaycastingScene()
+    gid = scene.add_triangles(v, t)
+    points = np.random.default_rng(0).uniform(-1, 2, (4000, 3)).astype(np.float32)
+    rays = np.array([down(0.3, -0.2)] * 100, np.float32)
+    stop = threading.Event()
+    errors = []
+
+    def reader(query):
+        try:
+            while not stop.is_set():
+                query()
+        except Exception as e:  # noqa: BLE001 - reported below
+            errors.append(e)
+
+    workers = [threading.Thread(target=reader, args=(q,)) for q in
+               (lambda: scene.compute_closest_points(points), lambda: scene.cast_rays(rays))]
+    for w in workers:
+        w.start()
+    try:
+        for k in range(200):
+            scene.update_triangles(gid, v + np.float32([0, 0, 0.01 * (k % 7)]))
+            if k % 50 == 0:
+                scene.add_triangles(v + np.float32([3, 0, 0]), t)
+    finally:
+        stop.set()
+        for w in workers:
+            w.join()
+    assert not errors
+    scene.update_triangles(gid, v)
+    assert scene.cast_rays(rays[:1])["t_hit"][0] == pytest.approx(2.0)
+
+
+def test_plugins_that_keep_arrays_or_answer_nothing():
+    v, t = grid(4)
+    keep = os.environ.get("HPRT_TEST_PLUGIN_KEEP")
+    if keep:
+        # A plugin whose update() keeps the build's vertex pointers reads the
+        # frame hprt wrote into those same arrays (plugin.h, Memory), even
+        # after the caller dropped every array it passed.
+        import gc
+        scene = hprt.RaycastingScene(backend="plugin:" + keep)
+        added, moved = v.copy(), v.copy()
+        gid = scene.add_triangles(added, t)
+        assert scene.cast_rays([down(0.1, 0.1)])["t_hit"][0] == pytest.approx(2.0)
+        moved[:, 2] = -1.0
+        scene.update_triangles(gid, moved)
+        del added, moved
+        gc.collect()
+        assert scene.cast_rays([down(0.1, 0.1)])["t_hit"][0] == pytest.approx(3.0)
+    silent = os.environ.get("HPRT_TEST_PLUGIN_SILENT")
+    if silent:
+        # A plugin that writes no answer: every one malformed, warned about,
+        # t_hit NaN and occlusion answers a bool array of 0 and 1.
+        scene = hprt.RaycastingScene(backend="plugin:" + silent)
+        scene.add_triangles(v, t)
+        assert scene.info()["backend"] == "plugin/si lent [0m"  # control characters blanked
+        rays = np.array([down(0.1, 0.1)] * 5, np.float32)
+        with pytest.warns(RuntimeWarning, match="gave 5 malformed answers"):
+            ans = scene.cast_rays(rays)
+        assert np.isnan(ans["t_hit"]).all()
+        assert (ans["geometry_ids"] == hprt.INVALID_ID).all()
+        with pytest.warns(RuntimeWarning, match="gave 5 malformed answers"):
+            occ = scene.test_occlusions(rays)
+        assert occ.dtype == np.bool_ and occ.view(np.uint8).tolist() == [1] * 5
+        assert scene.info()["malformed_answers"] == 10

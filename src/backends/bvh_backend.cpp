@@ -321,9 +321,9 @@ class BvhIntersector final : public Intersector {
 
   void require_vertices(const char* query) const {
     if (options_.triangle_test == TriangleTestKind::kMoller)
-      throw OptionError("query", std::string("the mt triangle test keeps no exact vertices, so it "
+      throw OptionError("isect", std::string("the mt triangle test keeps no exact vertices, so it "
                                              "does not answer ") +
-                                     query + " queries (use --isect watertight, the default)");
+                                     query + " queries (the watertight test, the default, does)");
   }
 
   // Only the triangle array the test reads is kept (and refitted).

@@ -41,12 +41,20 @@ namespace {
 
 constexpr size_t kBlock = 256;  // rays per call into the plugin (a multiple of 16)
 constexpr size_t kErrorSize = 1024;
+constexpr uint8_t kUnwrittenByte = 0xfe;  // neither 0 nor 1: occlusion_well_formed fails
 
-// The plugin's message on one line, or a stand-in when it left none.
-std::string plugin_message(const std::array<char, kErrorSize>& buf) {
-  std::string m(buf.data(), std::find(buf.begin(), buf.end(), '\0'));
+// Text from the plugin printed on one line: control characters (newlines,
+// tabs, terminal escapes) become spaces.
+std::string printable(std::string text) {
   std::replace_if(
-      m.begin(), m.end(), [](char c) { return c == '\n' || c == '\r'; }, ' ');
+      text.begin(), text.end(),
+      [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }, ' ');
+  return text;
+}
+
+// The plugin's message, or a stand-in when it left none.
+std::string plugin_message(const std::array<char, kErrorSize>& buf) {
+  std::string m = printable(std::string(buf.data(), std::find(buf.begin(), buf.end(), '\0')));
   return m.empty() ? "no message" : m;
 }
 
@@ -77,18 +85,19 @@ const hprt_plugin_v1* load_table(const std::string& path) {
       {"occluded", t->occluded != nullptr}, {"destroy", t->destroy != nullptr}};
   for (const auto& [field, present] : required)
     if (!present) throw InputError(path, std::string("plugin table has a NULL '") + field + "'");
+  if (t->name[0] == '\0') throw InputError(path, "plugin table has an empty 'name'");
   return t;
 }
 
 class PluginIntersector final : public Intersector {
  public:
   PluginIntersector(const BackendSpec& spec, const BackendOptions& options)
-      : path_(spec.plugin_path), table_(load_table(spec.plugin_path)) {
+      : path_(spec.plugin_path), table_(load_table(spec.plugin_path)), update_(options.update) {
     std::array<char, kErrorSize> err{};
     backend_ = table_->create(spec.plugin_options.c_str(), options.threads, err.data(), err.size());
     err.back() = '\0';
     if (!backend_) throw InputError(path_, "create failed: " + plugin_message(err));
-    info_.name = std::string("plugin/") + table_->name;
+    info_.name = "plugin/" + printable(table_->name);
   }
   ~PluginIntersector() override { table_->destroy(backend_); }
   PluginIntersector(const PluginIntersector&) = delete;
@@ -100,9 +109,11 @@ class PluginIntersector final : public Intersector {
   }
 
   // The plugin's update() only for the meshes of the last build with moved
-  // vertices (plugin.h); anything else is built again.
+  // vertices (plugin.h); anything else, or every frame under --update
+  // rebuild, is built again.
   void update(const Scene& scene) override {
-    if (!table_->update || !same_meshes(scene)) return build(scene);
+    if (!table_->update || update_ == UpdateStrategy::kRebuild || !same_meshes(scene))
+      return build(scene);
     call_build(scene, table_->update, "update");
     info_.rebuilt = false;
   }
@@ -112,6 +123,8 @@ class PluginIntersector final : public Intersector {
       throw std::invalid_argument("intersect: fewer hit slots than rays");
     if (!scene_) throw std::logic_error("plugin: intersect() before build()");
     for_blocks(rays.size(), [&](size_t begin, size_t count) {
+      // A record the plugin leaves unwritten stays malformed (t = NaN).
+      std::fill_n(hits.begin() + begin, count, malformed_hit());
       table_->intersect(backend_, reinterpret_cast<const hprt_ray*>(rays.data() + begin),
                         reinterpret_cast<hprt_hit*>(hits.data() + begin), count);
       uint64_t bad = 0;
@@ -133,6 +146,8 @@ class PluginIntersector final : public Intersector {
     if (!scene_) throw std::logic_error("plugin: occluded() before build()");
     for_blocks(rays.size(), [&](size_t begin, size_t count) {
       alignas(64) Ray buf[kBlock];  // six-float rays as the ABI's records
+      // A byte the plugin leaves unwritten stays malformed.
+      std::fill_n(result.begin() + begin, count, kUnwrittenByte);
       table_->occluded(backend_, reinterpret_cast<const hprt_ray*>(rays.block(begin, count, buf)),
                        result.data() + begin, count);
       const auto bad = std::count_if(result.begin() + begin, result.begin() + begin + count,
@@ -197,6 +212,7 @@ class PluginIntersector final : public Intersector {
 
   std::string path_;
   const hprt_plugin_v1* table_;
+  UpdateStrategy update_;
   hprt_backend* backend_ = nullptr;
   const Scene* scene_ =
       nullptr;  // answers are checked against it; outlives the build (as Embree's shared buffers)

@@ -24,16 +24,16 @@ std::unique_ptr<Intersector> make_intersector(std::string_view backend,
 
 // Backends without the queries say so (the plugin ABI has no such call).
 void Intersector::count(const RayInput&, std::span<uint32_t>) const {
-  throw OptionError("query", "backend " + info().name + " does not answer count queries");
+  throw OptionError("backend", info().name + " does not answer count queries");
 }
 void Intersector::intersect_all(const RayInput&, uint32_t, HitLists&) const {
-  throw OptionError("query", "backend " + info().name + " does not answer all-hits queries");
+  throw OptionError("backend", info().name + " does not answer all-hits queries");
 }
 void Intersector::locate(std::span<const Vec3f>, std::span<PointLocation>) const {
-  throw OptionError("query", "backend " + info().name + " does not answer inside queries");
+  throw OptionError("backend", info().name + " does not answer inside queries");
 }
 void Intersector::closest(std::span<const Vec3f>, float, std::span<ClosestPoint>) const {
-  throw OptionError("query", "backend " + info().name + " does not answer closest-point queries");
+  throw OptionError("backend", info().name + " does not answer closest-point queries");
 }
 
 }  // namespace hprt

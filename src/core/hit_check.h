@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <string>
 
 #include "core/hit.h"
 #include "core/ray.h"
@@ -31,5 +32,16 @@ inline bool hit_well_formed(const Scene& scene, const Ray& ray, const Hit& h) {
 
 // An occlusion answer is one byte, 0 or 1.
 inline bool occlusion_well_formed(uint8_t occluded) { return occluded <= 1; }
+
+// The warning every command that traces through a backend prints after
+// "<command>: warning: " when answers failed these checks (empty when none
+// did), so a broken plugin is never timed or rendered as if it were right.
+inline std::string malformed_warning(const std::string& backend_name, uint64_t malformed) {
+  if (malformed == 0) return {};
+  return backend_name + " gave " + std::to_string(malformed) +
+         " malformed answers (t outside [tnear, tfar], ids out of range, u/v outside the "
+         "triangle, a record left unwritten, or a byte not 0/1); hits taken as misses with "
+         "t = NaN, bytes as given";
+}
 
 }  // namespace hprt

@@ -1,7 +1,8 @@
 // Closest hits as separate arrays instead of Hit records
 // (Intersector::intersect_columns), as numpy and Open3D users hold them.
 // Each pointer is null (not wanted) or holds one entry per ray of the batch
-// (uv 2, normal 3). A miss: t = +inf, both ids kInvalidId, uv and normal 0.
+// (uv 2, normal 3). A miss: t = +inf, both ids kInvalidId, uv and normal 0;
+// a plugin's malformed answer (core/hit_check.h) the same with t = NaN.
 #pragma once
 
 #include <cstddef>
@@ -27,10 +28,10 @@ struct HitColumns {
   }
 
   // Ray i's answer: the record `h` (a plugin's malformed hit, t = NaN, is a
-  // miss here too) and, for a hit, its unit normal n (3 floats).
+  // miss here too, keeping its NaN) and, for a hit, its unit normal n (3 floats).
   void write(size_t i, const Hit& h, const float* n) const {
     const bool hit = h.hit();
-    if (t) t[i] = hit ? h.t : std::numeric_limits<float>::infinity();
+    if (t) t[i] = hit || h.t != h.t ? h.t : std::numeric_limits<float>::infinity();
     if (geom_id) geom_id[i] = hit ? h.geom_id : kInvalidId;
     if (prim_id) prim_id[i] = hit ? h.prim_id : kInvalidId;
     if (uv) uv[2 * i] = hit ? h.u : 0.0f, uv[2 * i + 1] = hit ? h.v : 0.0f;

@@ -45,9 +45,9 @@ class RayInput {
   // Rays [first, first + n) as records: in place, or written into buf (n slots).
   const Ray* block(size_t first, size_t n, Ray* buf) const {
     if (records_) return records_ + first;
-    const float* r = six_ + 6 * first;
     size_t i = 0;
 #if defined(__AVX512F__)
+    const float* r = six_ + 6 * first;
     // Two rays per step: 12 floats spread over two records, the interval
     // kept in the other lanes (about a tenth of the scalar loop's loads and stores).
     const __m512i spread = _mm512_setr_epi32(0, 1, 2, 0, 3, 4, 5, 0, 6, 7, 8, 0, 9, 10, 11, 0);

@@ -9,6 +9,7 @@
 #include <limits>
 #include <memory>
 #include <mutex>
+#include <shared_mutex>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -20,18 +21,19 @@ constexpr float kInf = std::numeric_limits<float>::infinity();
 constexpr size_t kGrain = 4096;    // rays per task of the conversions
 constexpr size_t kChunk = 262144;  // rays or points per chunk of a query's results
 
+// nthreads <= 0 means every hardware thread, as in Open3D.
 void check_nthreads(int nthreads) {
-  if (nthreads < 0 || nthreads > api::kMaxThreads)
-    throw api::Error("nthreads: must be in [0, " + std::to_string(api::kMaxThreads) + "], got " +
+  if (nthreads > api::kMaxThreads)
+    throw api::Error("nthreads: must be at most " + std::to_string(api::kMaxThreads) + ", got " +
                      std::to_string(nthreads));
 }
 
-// Runs f in an arena of `nthreads`, or where the caller runs for 0 (the
-// backend's own threads, else every hardware thread).
+// Runs f in an arena of `nthreads`, or where the caller runs for 0 or less
+// (the backend's own threads, else every hardware thread).
 template <typename F>
 decltype(auto) with_nthreads(int nthreads, F&& f) {
   check_nthreads(nthreads);
-  if (nthreads == 0) return f();
+  if (nthreads <= 0) return f();
   tbb::task_arena arena(nthreads);
   return arena.execute(std::forward<F>(f));
 }
@@ -60,6 +62,7 @@ RaycastingScene::RaycastingScene(int nthreads, const std::string& backend,
 
 uint32_t RaycastingScene::add_triangles(std::span<const float> vertices,
                                         std::span<const uint32_t> indices, bool shared) {
+  const std::unique_lock change(use_);
   const uint32_t id =
       shared ? scene_.add_mesh_shared(vertices, indices) : scene_.add_mesh(vertices, indices);
   stale_ = true;
@@ -75,6 +78,7 @@ uint32_t RaycastingScene::add_triangles(const std::string& path) {
 
 void RaycastingScene::update_triangles(uint32_t id, std::span<const float> vertices,
                                        bool /*shared*/) {
+  const std::unique_lock change(use_);
   if (id >= scene_.mesh_count())
     throw api::Error("geometry_id: no geometry " + std::to_string(id) + " (the scene has " +
                      std::to_string(scene_.mesh_count()) + ")");
@@ -129,6 +133,7 @@ void parallel_ranges(size_t n, F&& f) {
 // (api::RayArray), which it reads a block at a time; list_intersections a
 // chunk at a time, so the backend's hit lists stay a few MB.
 void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads) {
+  const std::shared_lock use(use_);
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
@@ -144,16 +149,27 @@ void RaycastingScene::cast_rays(std::span<const float> rays, const CastOutput& o
 
 void RaycastingScene::test_occlusions(std::span<const float> rays, float tnear, float tfar,
                                       uint8_t* occluded, int nthreads) {
+  const std::shared_lock use(use_);
+  // Rays with tnear < 0 or not tnear <= tfar miss (core/ray.h): as the
+  // interval is the caller's choice here, such a choice is an error.
+  if (!(tnear >= 0.0f && tnear <= tfar))
+    throw std::invalid_argument("tnear, tfar: need 0 <= tnear <= tfar, got " +
+                                std::to_string(tnear) + ", " + std::to_string(tfar));
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
-  with_nthreads(nthreads, [&] {
-    b.occluded(api::RayArray{rays, tnear, tfar}, {occluded, rays.size() / 6});
-  });
+  const uint64_t malformed_before = b.info().malformed_answers;
+  const size_t n = rays.size() / 6;
+  with_nthreads(nthreads, [&] { b.occluded(api::RayArray{rays, tnear, tfar}, {occluded, n}); });
+  // A plugin's malformed byte (neither 0 nor 1) reads as occluded: stored as
+  // 1, since Python's bool arrays hold only 0 and 1.
+  if (b.info().malformed_answers != malformed_before)
+    for (size_t i = 0; i < n; ++i) occluded[i] = occluded[i] != 0;
 }
 
 void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* counts,
                                           int nthreads) {
+  const std::shared_lock use(use_);
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
@@ -165,6 +181,7 @@ void RaycastingScene::count_intersections(std::span<const float> rays, int32_t* 
 }
 
 IntersectionLists RaycastingScene::list_intersections(std::span<const float> rays, int nthreads) {
+  const std::shared_lock use(use_);
   check_rays(rays);
   check_nthreads(nthreads);  // before a build the call would otherwise start
   api::Backend& b = built();
@@ -187,9 +204,9 @@ IntersectionLists RaycastingScene::list_intersections(std::span<const float> ray
           out.primitive_uvs.push_back(h.u);
           out.primitive_uvs.push_back(h.v);
         }
-        if (out.t_hit.size() > size_t(std::numeric_limits<int32_t>::max()))
-          throw api::Error("list_intersections: more than 2^31 intersections");
-        out.ray_splits.push_back(int32_t(out.t_hit.size()));
+        if (out.t_hit.size() > size_t(std::numeric_limits<uint32_t>::max()))
+          throw api::Error("list_intersections: more than 2^32-1 intersections");
+        out.ray_splits.push_back(uint32_t(out.t_hit.size()));
       }
     }
   };
@@ -223,6 +240,7 @@ void for_point_chunks(std::span<const float> points, int nthreads, F&& f) {
 
 void RaycastingScene::compute_closest_points(std::span<const float> points,
                                              const ClosestOutput& out, int nthreads) {
+  const std::shared_lock use(use_);
   check_points(points);
   check_nthreads(nthreads);
   api::Backend& b = built();
@@ -251,6 +269,7 @@ void RaycastingScene::compute_closest_points(std::span<const float> points,
 
 void RaycastingScene::compute_distance(std::span<const float> points, float* distance,
                                        int nthreads) {
+  const std::shared_lock use(use_);
   check_points(points);
   check_nthreads(nthreads);
   api::Backend& b = built();
@@ -263,6 +282,7 @@ void RaycastingScene::compute_distance(std::span<const float> points, float* dis
 
 void RaycastingScene::compute_signed_distance(std::span<const float> points, float* distance,
                                               int nthreads, int nsamples) {
+  const std::shared_lock use(use_);
   check_points(points);
   check_nsamples(nsamples);
   check_nthreads(nthreads);
@@ -282,6 +302,7 @@ void RaycastingScene::compute_signed_distance(std::span<const float> points, flo
 
 void RaycastingScene::compute_occupancy(std::span<const float> points, float* occupancy,
                                         int nthreads, int nsamples) {
+  const std::shared_lock use(use_);
   check_points(points);
   check_nsamples(nsamples);
   check_nthreads(nthreads);
@@ -296,6 +317,7 @@ void RaycastingScene::compute_occupancy(std::span<const float> points, float* oc
 
 api::DiffReport RaycastingScene::validate_rays(std::span<const float> rays,
                                                const std::string& reference) {
+  const std::shared_lock use(use_);
   api::Backend& b = built();
   api::Backend ref(reference);
   ref.build(scene_);
@@ -306,19 +328,29 @@ api::DiffReport RaycastingScene::validate_rays(std::span<const float> rays,
 }
 
 SceneInfo RaycastingScene::info() const {
+  const std::shared_lock use(use_);
   const std::lock_guard lock(prepare_);
   SceneInfo i;
   i.meshes = scene_.mesh_count();
   i.triangles = scene_.triangle_count();
   i.normals_bytes = normals_ ? normals_->memory_bytes() : 0;
+  const api::BackendInfo b = backend_->info();
+  i.backend = b.name;
   if (!stale_ || only_moved_) {
-    const api::BackendInfo b = backend_->info();
-    i.backend = b.name;
     i.build_ms = b.build_ms;
     i.memory_bytes = b.memory_bytes;
     i.malformed_answers = b.malformed_answers;
   }
   return i;
+}
+
+std::string RaycastingScene::malformed_since(uint64_t before) const {
+  const SceneInfo i = info();
+  if (i.malformed_answers <= before) return {};
+  return i.backend + " gave " + std::to_string(i.malformed_answers - before) +
+         " malformed answers (t outside the ray's interval, ids out of range, u/v outside the "
+         "triangle, a record left unwritten, or an occlusion byte not 0/1): hits returned as "
+         "misses with t_hit NaN, occlusions as occluded";
 }
 
 namespace {

@@ -14,6 +14,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <shared_mutex>
 #include <span>
 #include <string>
 #include <vector>
@@ -48,13 +49,13 @@ struct ClosestOutput {
 // list_intersections' result: ray i's hits are [ray_splits[i],
 // ray_splits[i + 1]) of the other arrays, nearest first (uvs: 2 per hit).
 struct IntersectionLists {
-  std::vector<int32_t> ray_splits;
+  std::vector<uint32_t> ray_splits;  // uint32, as Open3D's
   std::vector<uint32_t> ray_ids, geometry_ids, primitive_ids;
   std::vector<float> t_hit, primitive_uvs;
 };
 
 struct SceneInfo {
-  std::string backend;  // configuration name, "" before the first build
+  std::string backend;  // configuration name
   double build_ms = 0.0;
   size_t memory_bytes = 0;   // the backend's structure
   size_t normals_bytes = 0;  // FaceNormals, once compute_closest_points made them
@@ -69,8 +70,8 @@ class RaycastingScene {
   RaycastingScene(int nthreads, const std::string& backend, const api::Options& options);
 
   // The arrays are shared when `shared` (the caller keeps them alive and
-  // unchanged, as the Python module does for float32/uint32 C-contiguous
-  // arrays), else copied. Returns the geometry id.
+  // unchanged), else copied (the Python module copies, as Open3D does).
+  // Returns the geometry id.
   uint32_t add_triangles(std::span<const float> vertices, std::span<const uint32_t> indices,
                          bool shared);
   uint32_t add_triangles(const std::string& path);
@@ -80,8 +81,11 @@ class RaycastingScene {
   void update_triangles(uint32_t id, std::span<const float> vertices, bool shared);
 
   // rays: 6 floats per ray. nthreads > 0 runs the call in that many threads
-  // when the scene was made with nthreads 0 (else the scene's count holds).
+  // when the scene was made with nthreads 0 (else the scene's count holds);
+  // 0 or less, as in Open3D: every hardware thread (or the scene's count).
+  // Above api::kMaxThreads: api::Error.
   void cast_rays(std::span<const float> rays, const CastOutput& out, int nthreads);
+  // tnear < 0 or not tnear <= tfar (NaN too): std::invalid_argument.
   void test_occlusions(std::span<const float> rays, float tnear, float tfar, uint8_t* occluded,
                        int nthreads);
   // Surface crossings along each ray in (0, inf), each counted once by the
@@ -106,6 +110,11 @@ class RaycastingScene {
   api::DiffReport validate_rays(std::span<const float> rays, const std::string& reference);
 
   SceneInfo info() const;
+  // A one-line warning when the backend's answers failed hprt's checks since
+  // info().malformed_answers was `before` (a plugin's: include/hprt/plugin.h,
+  // "Trust"), else "". Such hits come back as misses with t_hit NaN, such
+  // occlusion answers as occluded.
+  std::string malformed_since(uint64_t before) const;
   const api::Scene& scene() const { return scene_; }
 
  private:
@@ -123,9 +132,11 @@ class RaycastingScene {
   std::unique_ptr<FaceNormals> normals_;  // the triangles' normals, null when stale
   // Queries may run at once from several threads (the Python module releases
   // the GIL); the first after a change builds the backend and normals under
-  // this lock (info() takes it too, not to read a backend being rebuilt).
-  // Adding or moving triangles must not overlap a query.
+  // prepare_ (info() takes it too, not to read a backend being rebuilt).
+  // Adding or moving triangles holds use_ alone, so it waits for the queries
+  // under way and the next ones wait for it; each query holds it shared.
   mutable std::mutex prepare_;
+  mutable std::shared_mutex use_;
 };
 
 // Open3D's create_rays_pinhole: rays (height, width, 6) from the camera at

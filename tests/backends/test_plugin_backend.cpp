@@ -112,6 +112,56 @@ TEST(PluginBackend, UpdateWithAndWithoutThePluginsUpdate) {
   }
 }
 
+TEST(PluginBackend, UpdateRebuildBuildsAndAKeptPointerSeesTheNewFrame) {
+  Scene s = two_meshes();
+  const std::vector<Ray> rays = test::random_rays(s.bounds(), 500, 5);
+  // --update rebuild: build() every frame, even where the plugin has update().
+  BackendOptions rebuild;
+  rebuild.update = UpdateStrategy::kRebuild;
+  auto good = make_intersector(plugin(HPRT_TEST_PLUGIN_GOOD), rebuild);
+  good->build(s);
+  good->update(s);
+  EXPECT_TRUE(good->info().rebuilt);
+  // KEEP's update() keeps the build's pointers: hprt moved the vertices in
+  // place, so it answers for the new frame as Embree does.
+  auto keep = make_intersector(plugin(HPRT_TEST_PLUGIN_KEEP), BackendOptions{});
+  keep->build(s);
+  for (Vec3f& v : s.meshes[0].positions) v = v * 0.5f;
+  keep->update(s);
+  EXPECT_FALSE(keep->info().rebuilt);
+  auto e = make_intersector("embree", BackendOptions{});
+  e->build(s);
+  std::vector<Hit> hk(rays.size()), he(rays.size());
+  keep->intersect(rays, hk);
+  e->intersect(rays, he);
+  size_t differ = 0, hits = 0;
+  for (size_t i = 0; i < rays.size(); ++i) {
+    differ += hk[i].hit() != he[i].hit();
+    hits += he[i].hit();
+  }
+  EXPECT_GT(hits, 10u);
+  EXPECT_LE(differ, 1u);
+}
+
+TEST(PluginBackend, UnwrittenAnswersAreMalformedAndNamesPrintable) {
+  const Scene s = two_meshes();
+  const std::vector<Ray> rays = test::random_rays(s.bounds(), 700, 3);
+  auto p = make_intersector(plugin(HPRT_TEST_PLUGIN_SILENT), BackendOptions{});
+  EXPECT_EQ(p->info().name, "plugin/si lent [0m");  // newline and escape blanked
+  p->build(s);
+  std::vector<Hit> h(rays.size(), Hit{});  // misses: hprt must not trust what was there
+  p->intersect(rays, h);
+  for (const Hit& x : h) EXPECT_TRUE(x.malformed() && !x.hit());
+  EXPECT_EQ(p->info().malformed_answers, rays.size());
+  std::vector<uint8_t> occ(rays.size(), 0);
+  p->occluded(rays, occ);
+  for (uint8_t o : occ) EXPECT_FALSE(occlusion_well_formed(o));
+  EXPECT_EQ(p->info().malformed_answers, 2 * rays.size());
+  EXPECT_NE(malformed_warning(p->info().name, 3).find("gave 3 malformed answers"),
+            std::string::npos);
+  EXPECT_EQ(malformed_warning(p->info().name, 0), "");
+}
+
 TEST(PluginBackend, BrokenPluginsAreRefusedNamingFileAndProblem) {
   struct Case {
     std::string spec;

@@ -42,6 +42,25 @@ TEST_F(CliPlugin, TraceAndRender) {
   EXPECT_NE(lies.err.find("malformed answers"), std::string::npos) << lies.err;
   EXPECT_EQ(run("render " + mesh_ + " --width 48 --backend " + kGood + " -o " + path("s.png")).code,
             0);
+  // Every command that traces through a lying plugin says so, on one line.
+  for (const std::string& cmd :
+       {"render " + mesh_ + " --width 48 --json -o " + path("l.png") + " --backend " + kLies,
+        "rays " + mesh_ + " --kind shadow -n 2000 -o " + path("l.rays") + " --backend " + kLies,
+        "bench trace " + mesh_ + " --quick --no-suite --rays 500 --threads 1 --repeat 1 --out " +
+            path("bench") + " --backend " + kLies}) {
+    const CliResult r = run(cmd);
+    EXPECT_EQ(r.code, 0) << cmd << ": " << r.err;
+    EXPECT_NE(r.err.find(": warning: "), std::string::npos) << cmd << ": " << r.err;
+    EXPECT_NE(r.err.find("plugin/test gave "), std::string::npos) << cmd << ": " << r.err;
+  }
+  EXPECT_NE(slurp(path("bench") + "/trace.json").find("\"bvh_malformed\""), std::string::npos);
+  // A query the plugin ABI has no call for names the option to change.
+  const CliResult count = run("query " + mesh_ + " --rays " + path("r.rays") + " --kind count -o " +
+                              path("c.counts") + " --backend " + kGood);
+  EXPECT_EQ(count.code, 2);
+  EXPECT_NE(count.err.find("--backend: plugin/test does not answer count queries"),
+            std::string::npos)
+      << count.err;
   const std::string wave = std::string(HPRT_SOURCE_DIR) + "/data/scenes/anim_wave.json";
   const CliResult frames = run("render " + wave + " --width 32 --frames 0:2 --backend " + kGood +
                                " -o " + path("f_%02d.png"));

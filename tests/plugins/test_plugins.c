@@ -24,7 +24,8 @@
         defined(HPRT_TEST_PLUGIN_NULL_INTERSECT) + defined(HPRT_TEST_PLUGIN_NO_ENTRY) + \
         defined(HPRT_TEST_PLUGIN_ENTRY_NULL) + defined(HPRT_TEST_PLUGIN_CREATE_FAILS) + \
         defined(HPRT_TEST_PLUGIN_BUILD_FAILS) + defined(HPRT_TEST_PLUGIN_MALFORMED) +   \
-        defined(HPRT_TEST_PLUGIN_OPTIONS_ECHO) !=                                       \
+        defined(HPRT_TEST_PLUGIN_OPTIONS_ECHO) + defined(HPRT_TEST_PLUGIN_SILENT) +     \
+        defined(HPRT_TEST_PLUGIN_KEEP) !=                                               \
     1
 #error "define exactly one HPRT_TEST_PLUGIN_* variant"
 #endif
@@ -40,7 +41,9 @@ enum {
   TP_CREATE_FAILS,
   TP_BUILD_FAILS,
   TP_MALFORMED,
-  TP_OPTIONS_ECHO
+  TP_OPTIONS_ECHO,
+  TP_SILENT, /* writes no answer at all, and its name has control characters */
+  TP_KEEP    /* update() keeps the build's mesh records: reads the arrays hprt moved in place */
 };
 #if defined(HPRT_TEST_PLUGIN_GOOD)
 #define TP_VARIANT TP_GOOD
@@ -58,6 +61,10 @@ enum {
 #define TP_VARIANT TP_BUILD_FAILS
 #elif defined(HPRT_TEST_PLUGIN_MALFORMED)
 #define TP_VARIANT TP_MALFORMED
+#elif defined(HPRT_TEST_PLUGIN_SILENT)
+#define TP_VARIANT TP_SILENT
+#elif defined(HPRT_TEST_PLUGIN_KEEP)
+#define TP_VARIANT TP_KEEP
 #else
 #define TP_VARIANT TP_OPTIONS_ECHO
 #endif
@@ -192,8 +199,21 @@ static int tp_build(hprt_backend* be, const hprt_mesh* meshes, uint32_t count, c
   return 0;
 }
 
+/* KEEP's update(): the records of the last build() stay, so the vertices it
+ * reads are the arrays hprt wrote the new frame into (plugin.h, Memory). */
+static int tp_keep_update(hprt_backend* be, const hprt_mesh* meshes, uint32_t count, char* error,
+                          size_t size) {
+  (void)meshes;
+  if (count != be->mesh_count) {
+    set_error(error, size, "update() with other meshes than build()");
+    return 1;
+  }
+  return 0;
+}
+
 static void tp_intersect(const hprt_backend* be, const hprt_ray* rays, hprt_hit* hits,
                          size_t count) {
+  if (TP_VARIANT == TP_SILENT) return;
   for (size_t i = 0; i < count; ++i) {
     hprt_hit* h = &hits[i];
     if (!trace(be, &rays[i], 0, h) || TP_VARIANT != TP_MALFORMED) continue;
@@ -207,6 +227,7 @@ static void tp_intersect(const hprt_backend* be, const hprt_ray* rays, hprt_hit*
 
 static void tp_occluded(const hprt_backend* be, const hprt_ray* rays, uint8_t* occluded,
                         size_t count) {
+  if (TP_VARIANT == TP_SILENT) return;
   for (size_t i = 0; i < count; ++i) {
     hprt_hit h;
     const int hit = trace(be, &rays[i], 1, &h);
@@ -223,10 +244,12 @@ static void tp_destroy(hprt_backend* be) {
 
 static const hprt_plugin_v1 tp_plugin = {
     .abi_version = TP_VARIANT == TP_BAD_ABI ? 2u : HPRT_PLUGIN_ABI_VERSION,
-    .name = "test",
+    .name = TP_VARIANT == TP_SILENT ? "si\nlent\x1b[0m" : "test",
     .create = tp_create,
     .build = tp_build,
-    .update = TP_VARIANT == TP_GOOD ? tp_build : NULL, /* NULL: hprt calls build() again */
+    .update = TP_VARIANT == TP_GOOD   ? tp_build
+              : TP_VARIANT == TP_KEEP ? tp_keep_update
+                                      : NULL, /* NULL: hprt calls build() again */
     .intersect = TP_VARIANT == TP_NULL_INTERSECT ? NULL : tp_intersect,
     .occluded = tp_occluded,
     .destroy = tp_destroy,

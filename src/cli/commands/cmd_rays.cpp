@@ -8,6 +8,7 @@
 
 #include "backends/intersector.h"
 #include "cli/commands.h"
+#include "cli/malformed_warning.h"
 #include "cli/output_path.h"
 #include "core/error.h"
 #include "core/parallel.h"
@@ -43,18 +44,22 @@ void run_rays(const RaysArgs& a) {
   check_output_directory(a.output);
   const Scene scene = load_scene(a.scene);
   const BackendOptions options = finish_backend_options(a.backend);
+  BuildInfo info;  // of the backend that traced the seeding rays, if any
   const std::vector<Ray> rays = run_with_threads(options.threads, [&] {
     std::unique_ptr<Intersector> backend;
     if (ray_kind_needs_backend(kind)) {
       backend = make_intersector(options.backend, options);
       backend->build(scene);
     }
-    return make_rays(scene, kind, size_t(a.n), a.seed, backend.get());
+    std::vector<Ray> made = make_rays(scene, kind, size_t(a.n), a.seed, backend.get());
+    if (backend) info = backend->info();
+    return made;
   });
   write_rays(a.output, rays);
   std::fprintf(stderr, "hprt rays: %zu %s rays (seed %llu) -> %s\n", rays.size(),
                std::string(to_string(kind)).c_str(), static_cast<unsigned long long>(a.seed),
                a.output.c_str());
+  cli::warn_malformed("hprt rays", info.name, info.malformed_answers);
 }
 
 }  // namespace

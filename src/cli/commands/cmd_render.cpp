@@ -21,6 +21,7 @@
 #include "backends/intersector.h"
 #include "cli/commands.h"
 #include "cli/frame_range.h"
+#include "cli/malformed_warning.h"
 #include "core/error.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
@@ -114,6 +115,7 @@ void run_still(const RenderArgs& a) {
     backend->build(scene);
     info = backend->info();
     frame = render_frame(scene, camera, *backend, a.output);
+    info.malformed_answers = backend->info().malformed_answers;
   });
 
   const uint64_t rays = frame.stats.rays();
@@ -126,10 +128,12 @@ void run_still(const RenderArgs& a) {
                (unsigned long long)frame.stats.primary_rays,
                (unsigned long long)frame.stats.shadow_rays,
                (unsigned long long)frame.stats.reflection_rays, mrays, a.output.c_str());
+  cli::warn_malformed("hprt render", info.name, info.malformed_answers);
   if (a.json) {
     nlohmann::json j;
     j["backend"] = options.backend;
     j["config"] = info.name;
+    j["malformed_answers"] = info.malformed_answers;
     j["width"] = camera.width;
     j["height"] = camera.height;
     j["triangles"] = scene.triangle_count();
@@ -168,6 +172,7 @@ void run_frames(const RenderArgs& a) {
   std::vector<FrameTimes> times;
   int threads = 0;
   std::string config;
+  uint64_t malformed = 0;
   run_with_threads(options.threads, [&] {
     threads = resolve_threads(options.threads);
     const SceneAnimator animator(scene);
@@ -212,6 +217,7 @@ void run_frames(const RenderArgs& a) {
       }
     };
     run_animation(scene, animator, *backend, {range.first, range.end, true}, render_one, report);
+    malformed = backend->info().malformed_answers;
   });
 
   std::vector<double> update, render;
@@ -231,6 +237,7 @@ void run_frames(const RenderArgs& a) {
                times.size(), times.size() == 1 ? "" : "s", a.frames.c_str(), config.c_str(),
                strategy.c_str(), scene.triangle_count(), camera.width, camera.height, threads,
                median(update), update_total, rebuilds, median(render), render_total);
+  cli::warn_malformed("hprt render", config, malformed);
 }
 
 void run_render(const RenderArgs& a) {

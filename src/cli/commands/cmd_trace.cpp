@@ -14,6 +14,7 @@
 #include "backends/intersector.h"
 #include "bench/bench_options.h"
 #include "cli/commands.h"
+#include "cli/malformed_warning.h"
 #include "cli/output_path.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
@@ -87,12 +88,7 @@ void run_trace(const TraceArgs& a) {
                info.build_ms, trace_ms,
                a.repeat > 1 ? (" (median of " + std::to_string(a.repeat) + ")").c_str() : "", mrays,
                threads, a.output.c_str());
-  if (info.malformed_answers > 0)
-    std::fprintf(stderr,
-                 "hprt trace: warning: %s gave %llu malformed answers (t outside [tnear, tfar], "
-                 "ids out of range, u/v outside the triangle, or a byte not 0/1); hits written "
-                 "as misses with t = NaN, bytes as given\n",
-                 info.name.c_str(), static_cast<unsigned long long>(info.malformed_answers));
+  cli::warn_malformed("hprt trace", info.name, info.malformed_answers);
   if (a.json) {
     nlohmann::json j;
     j["backend"] = options.backend;
