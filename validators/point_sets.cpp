@@ -44,12 +44,13 @@ std::vector<std::string> point_kind_names() {
   return v;
 }
 
-std::vector<Vec3f> make_points(const Scene& scene, PointKind kind, size_t n, uint64_t seed) {
+std::vector<Vec3f> make_points(const Scene& scene, PointKind kind, size_t n, uint64_t seed,
+                               const std::string& scene_name) {
   std::vector<TriangleRef> valid;
   for (uint32_t m = 0; m < scene.meshes.size(); ++m)
     for (uint32_t i = 0; i < scene.meshes[m].triangle_count(); ++i)
       if (scene.meshes[m].triangle_valid(i)) valid.push_back({m, i});
-  if (valid.empty()) throw InputError("scene", "no valid triangle to place points around");
+  if (valid.empty()) throw InputError(scene_name, "no valid triangle to place points around");
   AABB box;
   for (const TriangleRef& r : valid) {
     const TriangleMesh& m = scene.meshes[r.mesh];

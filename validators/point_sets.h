@@ -33,6 +33,9 @@ std::vector<std::string> point_kind_names();
 
 // n points of `kind`, the same for the same seed and scene. Throws
 // InputError when the scene has no valid triangle.
-std::vector<Vec3f> make_points(const Scene& scene, PointKind kind, size_t n, uint64_t seed);
+// `scene_name` (its file) names the scene in the InputError of a scene with
+// no valid triangle.
+std::vector<Vec3f> make_points(const Scene& scene, PointKind kind, size_t n, uint64_t seed,
+                               const std::string& scene_name = "scene");
 
 }  // namespace hprt

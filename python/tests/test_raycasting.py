@@ -697,7 +697,7 @@ def test_plugins_that_keep_arrays_or_answer_nothing():
         # t_hit NaN and occlusion answers a bool array of 0 and 1.
         scene = hprt.RaycastingScene(backend="plugin:" + silent)
         scene.add_triangles(v, t)
-        assert scene.info()["backend"] == "plugin/si lent [0m"  # control characters blanked
+        assert scene.info()["backend"] == "plugin/si\\nlent\\x1b[0m"  # control characters escaped
         rays = np.array([down(0.1, 0.1)] * 5, np.float32)
         with pytest.warns(RuntimeWarning, match="gave 5 malformed answers"):
             ans = scene.cast_rays(rays)

@@ -11,8 +11,8 @@
 #include <string>
 
 #include "anim/deformers.h"
-#include "anim/frame_pattern.h"
 #include "core/error.h"
+#include "core/frame_pattern.h"
 #include "io/mesh/mesh_reader.h"
 #include "io/scene/scene_transform.h"
 

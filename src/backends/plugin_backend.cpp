@@ -43,18 +43,9 @@ constexpr size_t kBlock = 256;  // rays per call into the plugin (a multiple of 
 constexpr size_t kErrorSize = 1024;
 constexpr uint8_t kUnwrittenByte = 0xfe;  // neither 0 nor 1: occlusion_well_formed fails
 
-// Text from the plugin printed on one line: control characters (newlines,
-// tabs, terminal escapes) become spaces.
-std::string printable(std::string text) {
-  std::replace_if(
-      text.begin(), text.end(),
-      [](char c) { return static_cast<unsigned char>(c) < 0x20 || c == 0x7f; }, ' ');
-  return text;
-}
-
 // The plugin's message, or a stand-in when it left none.
 std::string plugin_message(const std::array<char, kErrorSize>& buf) {
-  std::string m = printable(std::string(buf.data(), std::find(buf.begin(), buf.end(), '\0')));
+  std::string m = one_line(std::string(buf.data(), std::find(buf.begin(), buf.end(), '\0')));
   return m.empty() ? "no message" : m;
 }
 
@@ -97,7 +88,7 @@ class PluginIntersector final : public Intersector {
     backend_ = table_->create(spec.plugin_options.c_str(), options.threads, err.data(), err.size());
     err.back() = '\0';
     if (!backend_) throw InputError(path_, "create failed: " + plugin_message(err));
-    info_.name = "plugin/" + printable(table_->name);
+    info_.name = "plugin/" + one_line(table_->name);  // printed in every table and line
   }
   ~PluginIntersector() override { table_->destroy(backend_); }
   PluginIntersector(const PluginIntersector&) = delete;

@@ -7,6 +7,16 @@
 
 namespace hprt {
 
+// The lens values a camera may have (scene files and --focal alike): the
+// range in which its rays stay finite and its image is not one pixel of
+// background; positions within kMaxCameraCoordinate of the origin, whose
+// rays are valid (core/ray.h's FLT_LARGE bound, with room for the scene).
+inline constexpr float kMinLensMm = 0.1f;
+inline constexpr float kMaxLensMm = 100000.0f;
+inline constexpr float kMaxCameraCoordinate = 1e18f;
+// Pixels of one image at most (a scene's camera, --width x --height).
+inline constexpr long long kMaxCameraPixels = 16384LL * 16384;
+
 struct Camera {
   Vec3f position{0.0f, 0.0f, 5.0f};
   Vec3f look_at{0.0f, 0.0f, 0.0f};

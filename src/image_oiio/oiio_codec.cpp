@@ -1,33 +1,45 @@
 // The image codec over OpenImageIO, built as the module libhprt_oiio.so (see
-// io/image/image_codec.h). The writer is chosen from the target name's extension
-// (ImageOutput::create) and then opened on the file to write, so a temporary
-// name's suffix does not matter.
+// io/image/image_codec.h). The writer is chosen from the target name's
+// extension (ImageOutput::create) and encodes into memory; the caller writes
+// the bytes.
+#include <OpenImageIO/filesystem.h>
 #include <OpenImageIO/imagebuf.h>
 #include <OpenImageIO/imagebufalgo.h>
 #include <OpenImageIO/imageio.h>
+#include <fcntl.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <string>
+#include <vector>
 
 #include "io/image/image_codec.h"
 
 namespace hprt {
 namespace {
 
+// Writers that can encode into memory (every format hprt names does).
 bool has_writer(const std::string& path) {
   auto out = OIIO::ImageOutput::create(path);
   if (!out) OIIO::geterror();  // clear OIIO's message ("could not find a format writer ...")
-  return bool(out);
+  return out && out->supports("ioproxy");
 }
 
-std::string write(const std::string& format_path, const std::string& file, int width, int height,
-                  bool as_float, const void* pixels) {
-  auto out = OIIO::ImageOutput::create(format_path);
-  if (!out) {
+// Encoded in memory, so that the caller writes the file with its own checked
+// writer: OIIO's writers reported success on a full disk (a 0-byte PNG), and
+// libjpeg's called exit(1), leaving the temporary file behind.
+std::string write(const std::string& format_path, std::vector<unsigned char>& bytes, int width,
+                  int height, bool as_float, const void* pixels) {
+  OIIO::Filesystem::IOVecOutput memory(bytes);
+  auto out = OIIO::ImageOutput::create(format_path, &memory);
+  if (!out || !out->supports("ioproxy")) {
     OIIO::geterror();
     return "no image writer for this file name";
   }
   OIIO::ImageSpec spec(width, height, 3, as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8);
   spec.attribute("oiio:ColorSpace", as_float ? "linear" : "sRGB");
   spec.attribute("Software", "hprt");
-  if (!out->open(file, spec)) return out->geterror();
+  if (!out->open(format_path, spec)) return out->geterror();
   if (!out->write_image(as_float ? OIIO::TypeDesc::FLOAT : OIIO::TypeDesc::UINT8, pixels)) {
     const std::string err = out->geterror();
     out->close();
@@ -37,7 +49,31 @@ std::string write(const std::string& format_path, const std::string& file, int w
   return "";
 }
 
+// libpng (and libjpeg) print their errors to stderr themselves, besides the
+// message OpenImageIO hands back: while a file is decoded, stderr goes to
+// /dev/null, so the caller's one line is the only one. (The image commands
+// decode on one thread; nothing else prints meanwhile.)
+class QuietStderr {
+ public:
+  QuietStderr() : saved_(::dup(STDERR_FILENO)) {
+    const int null = ::open("/dev/null", O_WRONLY | O_CLOEXEC);
+    if (saved_ >= 0 && null >= 0) ::dup2(null, STDERR_FILENO);
+    if (null >= 0) ::close(null);
+  }
+  ~QuietStderr() {
+    if (saved_ < 0) return;
+    ::dup2(saved_, STDERR_FILENO);
+    ::close(saved_);
+  }
+  QuietStderr(const QuietStderr&) = delete;
+  QuietStderr& operator=(const QuietStderr&) = delete;
+
+ private:
+  int saved_;
+};
+
 std::string read(const std::string& path, Image& img) {
+  const QuietStderr quiet;
   auto in = OIIO::ImageInput::open(path);
   if (!in) {
     std::string err = OIIO::geterror();
@@ -47,10 +83,30 @@ std::string read(const std::string& path, Image& img) {
   img.width = spec.width;
   img.height = spec.height;
   img.channels = spec.nchannels;
-  if (img.width <= 0 || img.height <= 0 || img.channels <= 0) return "image has no pixels";
-  img.pixels.resize(size_t(img.width) * size_t(img.height) * size_t(img.channels));
-  if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-    return "cannot read image: " + in->geterror();
+  if (img.width <= 0 || img.height <= 0 || img.channels <= 0 || spec.depth > 1)
+    return "image has no pixels";
+  const size_t row = size_t(img.width) * size_t(img.channels);
+  if (spec.tile_width > 0) {  // tiled (some EXR and TIFF): one read
+    img.pixels.resize(row * size_t(img.height));
+    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
+      return "cannot read image: " + in->geterror();
+  } else {
+    // Strips of about 1 MiB, the buffer growing as the rows arrive: a header
+    // that claims more pixels than the file holds fails at its first
+    // missing row, before its size is allocated.
+    const int strip = int(std::max<size_t>(1, (size_t{1} << 18) / row));
+    for (int y = 0; y < img.height; y += strip) {
+      const int end = std::min(img.height, y + strip);
+      const size_t need = row * size_t(end);
+      if (need > img.pixels.capacity())
+        img.pixels.reserve(
+            std::max(need, std::min(2 * img.pixels.capacity(), row * size_t(img.height))));
+      img.pixels.resize(need);
+      if (!in->read_scanlines(0, 0, spec.y + y, spec.y + end, 0, 0, img.channels,
+                              OIIO::TypeDesc::FLOAT, img.pixels.data() + row * size_t(y)))
+        return "cannot read image: " + in->geterror();
+    }
+  }
   in->close();
   return "";
 }

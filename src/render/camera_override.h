@@ -5,8 +5,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "core/camera.h"
+#include "core/error.h"
 
 namespace hprt {
 
@@ -18,6 +20,9 @@ inline Camera override_camera(const Camera& scene_camera, int width, int height,
   if (width > 0 && height == 0) c.height = std::max(1, int(std::lround(width * aspect)));
   if (height > 0 && width == 0) c.width = std::max(1, int(std::lround(height / aspect)));
   if (focal_mm > 0.0f) c.focal_length_mm = focal_mm;
+  if (static_cast<long long>(c.width) * c.height > kMaxCameraPixels)
+    throw InputError("width, height", std::to_string(c.width) + "x" + std::to_string(c.height) +
+                                          " is more than 16384x16384 pixels");
   return c;
 }
 

@@ -11,9 +11,9 @@
 #include <new>
 #include <string>
 
-#include "anim/frame_pattern.h"
 #include "anim/scene_animator.h"
 #include "core/error.h"
+#include "core/frame_pattern.h"
 #include "core/parallel.h"
 #include "io/mesh/ply_writer.h"
 #include "io/scene/scene_reader.h"

@@ -147,7 +147,7 @@ TEST(PluginBackend, UnwrittenAnswersAreMalformedAndNamesPrintable) {
   const Scene s = two_meshes();
   const std::vector<Ray> rays = test::random_rays(s.bounds(), 700, 3);
   auto p = make_intersector(plugin(HPRT_TEST_PLUGIN_SILENT), BackendOptions{});
-  EXPECT_EQ(p->info().name, "plugin/si lent [0m");  // newline and escape blanked
+  EXPECT_EQ(p->info().name, "plugin/si\\nlent\\x1b[0m");  // control characters escaped
   p->build(s);
   std::vector<Hit> h(rays.size(), Hit{});  // misses: hprt must not trust what was there
   p->intersect(rays, h);

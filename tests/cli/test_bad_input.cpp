@@ -6,7 +6,9 @@
 // case appends "case | command | exit code | message" to FILE (the closing
 // note's list is made that way).
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 #include <cmath>
 #include <cstdint>
@@ -186,6 +188,91 @@ TEST_F(BadInput, TruncatedBinaryAndGzip) {
   for (size_t i = 20; i < corrupt.size() - 8; i += 7) corrupt[i] = char(corrupt[i] ^ 0x5a);
   spit(dir_ / "corrupt.ply.gz", corrupt);
   expect_rejected("gzip PLY with flipped bytes", "build corrupt.ply.gz", {"corrupt.ply.gz"});
+}
+
+TEST_F(BadInput, FifosDevicesBombsAndLyingImages) {
+  // Inputs that are not regular files are refused, never waited on (a FIFO
+  // blocked open() for ever) or read until memory runs out (/dev/zero).
+  ASSERT_EQ(::mkfifo(path("f.ply").c_str(), 0600), 0);
+  ASSERT_EQ(::mkfifo(path("f.png").c_str(), 0600), 0);
+  expect_rejected("a FIFO as the mesh", "build f.ply", {"f.ply", "not a regular file"},
+                  "timeout 20 ");
+  ASSERT_EQ(run("render good.ply --width 16 -o a.png").code, 0);
+  expect_rejected("a FIFO as an image", "validate image a.png f.png",
+                  {"f.png", "not a regular file"}, "timeout 20 ");
+  spit(
+      dir_ / "dev.obj",
+      "mtllib ../../../../../../../../../dev/zero\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_rejected("an OBJ whose mtllib is /dev/zero", "build dev.obj",
+                  {"dev/zero", "not a regular file"}, "timeout 20 ");
+  spit(dir_ / "neg.mtl", "newmtl x\nKd -1 0.5 0.5\n");
+  spit(dir_ / "neg.obj", "mtllib neg.mtl\nusemtl x\nv 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\n");
+  expect_rejected("an .mtl with a negative Kd", "build neg.obj", {"neg.obj", "material 'x'"});
+  // 200 MiB of zeros in a .gz of about 200 KB: stopped at 100 times its size
+  // (64 MiB at least), well under a 1 GiB address-space limit.
+  ASSERT_EQ(std::system(
+                ("head -c 209715200 /dev/zero | gzip -1 > '" + path("bomb.ply.gz") + "'").c_str()),
+            0);
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)  // they reserve huge shadows
+  expect_rejected("a gzip bomb", "build bomb.ply.gz", {"bomb.ply.gz", "decompression bomb"},
+                  "ulimit -v 1048576 && ");
+#else
+  expect_rejected("a gzip bomb", "build bomb.ply.gz", {"bomb.ply.gz", "decompression bomb"});
+#endif
+  // A PNG header claiming 30000 x 30000 pixels with no pixel data: refused at
+  // its first missing row, not after allocating 10 GB.
+  const auto chunk = [](const std::string& type, const std::string& data) {
+    std::string c;
+    const uint32_t n = uint32_t(data.size());
+    for (int k = 3; k >= 0; --k) c += char((n >> (8 * k)) & 0xff);
+    c += type + data;
+    const uint32_t crc = uint32_t(::crc32(::crc32(0, nullptr, 0),
+                                          reinterpret_cast<const Bytef*>((type + data).data()),
+                                          uInt(type.size() + data.size())));
+    for (int k = 3; k >= 0; --k) c += char((crc >> (8 * k)) & 0xff);
+    return c;
+  };
+  const std::string ihdr("\x00\x00\x75\x30\x00\x00\x75\x30\x08\x02\x00\x00\x00", 13);
+  spit(dir_ / "huge.png", "\x89PNG\r\n\x1a\n" + chunk("IHDR", ihdr) + chunk("IEND", ""));
+#if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
+  expect_rejected("a PNG claiming 30000x30000 pixels", "validate image a.png huge.png",
+                  {"huge.png"}, "ulimit -v 3145728 && ");
+#endif
+  // Control characters of a scene file reach the message escaped, on one line.
+  spit(dir_ / "nl.json", "{\"meshes\":[{\"file\":\"good.ply\"}],\"bad\\nkey\":1}");
+  expect_rejected("a JSON key with a newline", "build nl.json", {"nl.json", "bad\\nkey"});
+}
+
+TEST_F(BadInput, CamerasAnimationsAndOutputsThatCannotWork) {
+  // Lens values outside the --focal range and positions past valid rays'
+  // coordinates rendered a blank image with exit 0.
+  spit(dir_ / "f.json",
+       "{\"meshes\":[{\"file\":\"good.ply\"}],\"camera\":{\"position\":[0,0,5],"
+       "\"look_at\":[0,0,0],\"focal_length_mm\":1e-30}}");
+  expect_rejected("camera focal length 1e-30 mm", "render f.json -o out.png",
+                  {"f.json", "camera.focal_length_mm"});
+  spit(dir_ / "p.json",
+       "{\"meshes\":[{\"file\":\"good.ply\"}],\"camera\":{\"position\":[0,0,1e38],"
+       "\"look_at\":[0,0,0]}}");
+  expect_rejected("camera at z = 1e38", "render p.json -o out.png", {"p.json", "camera.position"});
+  expect_rejected("--width x --height of 4.3 G pixels",
+                  "render good.ply --width 65536 --height 65536 -o out.png", {"65536x65536"});
+  // Animation fields checked when the scene is read, naming the field.
+  spit(dir_ / "frame_0.ply", std::string(kPlyHead) + kTriangleData);
+  const std::pair<std::string, std::string> anims[] = {
+      {"\"sequences\":[{\"pattern\":\"frame_%s.ply\"}]", "a % must start %d"},
+      {"\"sequences\":[{\"pattern\":\"good.ply\"}]", "has no frame number"},
+      {"\"sequences\":[{\"pattern\":\"frame_%d.ply\"}],\"deformers\":[{\"kind\":\"wave\"}]",
+       "has deformers too"}};
+  for (const auto& [fields, problem] : anims) {
+    spit(dir_ / "a.json",
+         "{\"meshes\":[{\"file\":\"good.ply\"}],\"animation\":{\"frames\":2," + fields + "}}");
+    expect_rejected("animation " + fields, "build a.json",
+                    {"a.json", "animation.sequences[0]", problem});
+  }
+  // generate writes binary PLY only: another name would not read back.
+  expect_rejected("generate -o x.obj", "generate sphere --tris 100 -o x.obj", {"x.obj", ".ply"});
+  expect_rejected("generate -o x.ply.gz", "generate sphere --tris 100 -o x.ply.gz", {"x.ply.gz"});
 }
 
 TEST_F(BadInput, ObjLinesThatDoNotParse) {

@@ -9,6 +9,7 @@
 #include "cli/output_path.h"
 #include "core/error.h"
 #include "core/stopwatch.h"
+#include "io/files/file_bytes.h"
 #include "io/mesh/generate_mesh.h"
 #include "io/mesh/ply_writer.h"
 
@@ -28,6 +29,9 @@ void run_generate(const GenerateArgs& a) {
     throw InputError("--tris", "need at least 1 triangle, got " + std::to_string(a.tris));
   if (a.kind == "subdivide" && a.from.empty())
     throw InputError("--from", "'subdivide' needs an input mesh (--from MESH)");
+  // Binary PLY, uncompressed: any other name would be read back as another format.
+  if (has_gz_extension(a.output) || mesh_extension(a.output) != ".ply")
+    throw InputError(a.output, "generate writes binary PLY: name the output .ply");
   check_output_directory(a.output);
   GenerateSpec spec;
   spec.kind = a.kind;

@@ -30,7 +30,7 @@ void run_points(const PointsArgs& a) {
   const PointKind kind = parse_point_kind(a.kind);
   check_output_directory(a.output);
   const Scene scene = load_scene(a.scene);
-  const std::vector<Vec3f> points = make_points(scene, kind, size_t(a.n), a.seed);
+  const std::vector<Vec3f> points = make_points(scene, kind, size_t(a.n), a.seed, a.scene);
   write_points(a.output, points);
   std::fprintf(stderr, "hprt points: %zu %s points (seed %llu) -> %s\n", points.size(),
                std::string(to_string(kind)).c_str(), static_cast<unsigned long long>(a.seed),

@@ -16,13 +16,13 @@
 #include <string>
 #include <vector>
 
-#include "anim/frame_pattern.h"
 #include "anim/scene_animator.h"
 #include "backends/intersector.h"
 #include "cli/commands.h"
 #include "cli/frame_range.h"
 #include "cli/malformed_warning.h"
 #include "core/error.h"
+#include "core/frame_pattern.h"
 #include "core/parallel.h"
 #include "core/stopwatch.h"
 #include "io/image/image_io.h"
@@ -262,7 +262,7 @@ void add_render_command(CLI::App& app, CommandState& /*state*/) {
   cmd->add_option("--height", args->height, "image height (overrides the scene camera)")
       ->check(CLI::Range(1, kMaxImageSide));
   cmd->add_option("--focal", args->focal_mm, "focal length in mm (overrides the scene camera)")
-      ->check(CLI::Range(0.1f, 100000.0f));
+      ->check(CLI::Range(kMinLensMm, kMaxLensMm));
   cmd->add_option("--frames", args->frames,
                   "animated scene: render frames A to B-1 (A:B), building at A and updating the "
                   "acceleration structure per --update after that; without it an animated scene "

@@ -74,7 +74,7 @@ int run_validate_query(const ValidateQueryArgs& a) {
   if (count && !a.rays.empty()) rays = read_rays(a.rays);
   if (!count && !a.points.empty()) points = read_points(a.points);
   if (!count && !a.kind.empty())
-    points = make_points(scene, parse_point_kind(a.kind), size_t(a.n), a.seed);
+    points = make_points(scene, parse_point_kind(a.kind), size_t(a.n), a.seed, a.scene);
   const RayKind ray_kind = count && !a.kind.empty() ? parse_ray_kind(a.kind) : RayKind::kRandom;
 
   QueryDiffOptions opts;

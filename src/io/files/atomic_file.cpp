@@ -76,8 +76,8 @@ void write_file_atomic(const std::string& path, const void* data, size_t size) {
   if (!f) throw InputError(path, std::string("cannot write: ") + std::strerror(errno));
   const size_t written = size ? std::fwrite(data, 1, size, f) : 0;
   const bool ok = written == size && std::fflush(f) == 0;
-  std::fclose(f);
-  if (!ok) throw InputError(path, "write failed (disk full?)");
+  const bool closed = std::fclose(f) == 0;  // the last buffered bytes may fail here
+  if (!ok || !closed) throw InputError(path, "write failed (disk full?)");
   out.commit();
 }
 

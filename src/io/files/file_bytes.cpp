@@ -36,12 +36,15 @@ struct Fd {
 };
 
 std::string read_plain(const std::string& path, size_t limit) {
-  Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC)};
+  // O_NONBLOCK: opening a FIFO would otherwise wait for a writer; a regular
+  // file reads the same either way.
+  Fd f{::open(path.c_str(), O_RDONLY | O_CLOEXEC | O_NONBLOCK)};
   if (f.fd < 0) throw InputError(path, std::string("cannot open: ") + std::strerror(errno));
   struct stat st {};
   if (::fstat(f.fd, &st) != 0)
     throw InputError(path, std::string("cannot read: ") + std::strerror(errno));
   if (S_ISDIR(st.st_mode)) throw InputError(path, "cannot open: Is a directory");
+  if (!S_ISREG(st.st_mode)) throw InputError(path, "not a regular file");
   if (st.st_size < 0 || static_cast<uint64_t>(st.st_size) > limit)
     throw InputError(path, "file is larger than the " + size_text(limit) + " limit");
   std::string data(static_cast<size_t>(st.st_size), '\0');
@@ -73,7 +76,11 @@ std::string mesh_extension(std::string_view path) {
   return ext;
 }
 
-std::string gunzip_bytes(const std::string& path, std::string_view gz, size_t limit) {
+std::string gunzip_bytes(const std::string& path, std::string_view gz, size_t limit,
+                         const std::string& limit_name) {
+  const std::string too_much =
+      "decompressed data exceed " +
+      (limit_name.empty() ? "the " + size_text(limit) + " limit" : limit_name);
   if (gz.size() < 2 || static_cast<unsigned char>(gz[0]) != 0x1f ||
       static_cast<unsigned char>(gz[1]) != 0x8b)
     throw InputError(path, "not a gzip file");
@@ -100,8 +107,7 @@ std::string gunzip_bytes(const std::string& path, std::string_view gz, size_t li
   size_t consumed = 0;
   for (;;) {
     if (produced == out.size()) {
-      if (out.size() > limit)
-        throw InputError(path, "decompressed data exceed the " + size_text(limit) + " limit");
+      if (out.size() > limit) throw InputError(path, too_much);
       out.resize(std::min(out.size() * 2, limit + 1));
     }
     // zlib counts in uInt; feed at most 1 GiB per call.
@@ -114,8 +120,7 @@ std::string gunzip_bytes(const std::string& path, std::string_view gz, size_t li
     const int rc = inflate(&zs, Z_NO_FLUSH);
     consumed += in_chunk - zs.avail_in;
     produced += out_chunk - zs.avail_out;
-    if (produced > limit)
-      throw InputError(path, "decompressed data exceed the " + size_text(limit) + " limit");
+    if (produced > limit) throw InputError(path, too_much);
     if (rc == Z_STREAM_END) {
       // Another gzip member may follow (as `cat a.gz b.gz` makes); anything
       // else after the stream is corruption.
@@ -146,6 +151,13 @@ std::string read_file_bytes(const std::string& path, size_t limit) {
   if (!has_gz_extension(path)) return read_plain(path, limit);
   // The compressed file itself can not reasonably exceed the output limit.
   const std::string gz = read_plain(path, limit);
+  // A decompression bomb stops at kMaxGzipRatio times its own size (with a
+  // floor for small files), before it costs gigabytes.
+  const size_t bound = std::max(kMinGzipBound, gz.size() * kMaxGzipRatio);
+  if (bound < limit)
+    return gunzip_bytes(path, gz, bound,
+                        std::to_string(kMaxGzipRatio) + " times the compressed size (" +
+                            size_text(bound) + "): a decompression bomb?");
   return gunzip_bytes(path, gz, limit);
 }
 

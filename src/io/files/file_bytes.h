@@ -13,6 +13,12 @@ namespace hprt {
 // tens of millions of triangles (a 20M-triangle binary PLY is ~0.4 GB).
 inline constexpr size_t kMaxInputBytes = size_t{4} << 30;
 
+// A .gz file may decompress to at most kMaxGzipRatio times its own size, or
+// kMinGzipBound, whichever is more (real meshes compress 3-5 times; a run of
+// zeros about 1000 times).
+inline constexpr size_t kMaxGzipRatio = 100;
+inline constexpr size_t kMinGzipBound = size_t{64} << 20;
+
 // True when `path` ends in ".gz" (any case).
 bool has_gz_extension(std::string_view path);
 
@@ -20,12 +26,15 @@ bool has_gz_extension(std::string_view path);
 std::string mesh_extension(std::string_view path);
 
 // The file's bytes (decompressed for .gz). Throws InputError(path, ...) when
-// the file cannot be opened or read, the gzip stream is corrupt or truncated,
-// or the data exceeds `limit` bytes.
+// the file cannot be opened or read or is not a regular file (a FIFO or a
+// device), the gzip stream is corrupt or truncated, or the data exceed
+// `limit` bytes (or kMaxGzipRatio times the .gz file's size).
 std::string read_file_bytes(const std::string& path, size_t limit = kMaxInputBytes);
 
 // Decompresses a gzip stream held in memory (used by read_file_bytes; exposed
-// for tests). `path` only names the data in error messages.
-std::string gunzip_bytes(const std::string& path, std::string_view gz, size_t limit);
+// for tests). `path` only names the data in error messages, `limit_name` the
+// limit ("the N MiB limit" when empty).
+std::string gunzip_bytes(const std::string& path, std::string_view gz, size_t limit,
+                         const std::string& limit_name = {});
 
 }  // namespace hprt

@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <string>
+#include <vector>
 
 #include "io/image/image_io.h"
 
@@ -22,16 +23,16 @@ struct ImageCompareResult {
   uint64_t pixels_over = 0;  // pixels with some channel |A - B| > threshold
 };
 
-inline constexpr int kImageCodecAbi = 1;
+inline constexpr int kImageCodecAbi = 2;
 
 // Each function returns "" on success, else the problem (without the path).
 struct ImageCodec {
   int abi = kImageCodecAbi;
   // Whether a writer exists for `path`'s extension.
   bool (*has_writer)(const std::string& path);
-  // Writes width x height x 3 pixels (float, or uint8 when !as_float) to
-  // `file`, in the format `format_path`'s extension names.
-  std::string (*write)(const std::string& format_path, const std::string& file, int width,
+  // Encodes width x height x 3 pixels (float, or uint8 when !as_float) into
+  // `bytes`, in the format `format_path`'s extension names.
+  std::string (*write)(const std::string& format_path, std::vector<unsigned char>& bytes, int width,
                        int height, bool as_float, const void* pixels);
   // Reads every channel of `path`'s first subimage as float.
   std::string (*read)(const std::string& path, Image& image);

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <filesystem>
 
 #include "core/error.h"
 #include "io/files/atomic_file.h"
@@ -63,7 +64,6 @@ void write_image(const std::string& path, int width, int height, std::span<const
   if (rgb.size() != size_t(width) * size_t(height))
     throw InputError(path, "pixel count does not match the image size");
   require_writer(path);
-  AtomicFile file(path);
   const bool as_float = is_float_image_format(path);
   std::vector<uint8_t> bytes;
   if (!as_float) {
@@ -73,14 +73,19 @@ void write_image(const std::string& path, int width, int height, std::span<const
         bytes[i * 3 + size_t(c)] =
             encoding == PixelEncoding::kLinear ? linear_to_srgb8(rgb[i][c]) : to_byte(rgb[i][c]);
   }
+  std::vector<unsigned char> encoded;
   const std::string err =
-      image_codec(path).write(path, file.temp_path(), width, height, as_float,
+      image_codec(path).write(path, encoded, width, height, as_float,
                               as_float ? static_cast<const void*>(rgb.data()) : bytes.data());
   if (!err.empty()) throw InputError(path, err);
-  file.commit();
+  write_file_atomic(path, encoded.data(), encoded.size());  // whole or not at all, disk full too
 }
 
 Image read_image(const std::string& path) {
+  // OpenImageIO opens the file itself: a FIFO would block it, a device feed it forever.
+  std::error_code ec;
+  if (std::filesystem::exists(path, ec) && !std::filesystem::is_regular_file(path, ec))
+    throw InputError(path, "not a regular file");
   Image img;
   const std::string err = image_codec(path).read(path, img);
   if (!err.empty()) throw InputError(path, err);

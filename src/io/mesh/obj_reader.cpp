@@ -6,11 +6,17 @@
 #include <tiny_obj_loader.h>
 
 #include <cmath>
+#include <filesystem>
 #include <istream>
+#include <map>
 #include <streambuf>
+#include <string>
+#include <system_error>
+#include <utility>
 #include <vector>
 
 #include "core/error.h"
+#include "io/files/file_bytes.h"
 #include "io/mesh/obj_validate.h"
 
 namespace hprt {
@@ -23,6 +29,36 @@ class MemoryBuf : public std::streambuf {
     char* p = const_cast<char*>(s.data());
     setg(p, p, p + s.size());
   }
+};
+
+// An .mtl larger than this is not a material library.
+constexpr size_t kMaxMtlBytes = size_t{64} << 20;
+
+// `mtllib NAME` read as every other input file is (read_file_bytes: regular
+// files only, size-capped), not through tinyobjloader's own ifstream, which
+// would block on a FIFO and read /dev/zero until memory ran out. A missing
+// library is a warning (the default material); one that cannot be read is an
+// InputError naming it.
+class MtlReader : public tinyobj::MaterialReader {
+ public:
+  explicit MtlReader(std::string dir) : dir_(std::move(dir)) {}
+  bool operator()(const std::string& name, std::vector<tinyobj::material_t>* materials,
+                  std::map<std::string, int>* names, std::string* warn, std::string* err) override {
+    const std::string path = dir_ + name;
+    std::error_code ec;
+    if (!std::filesystem::exists(path, ec)) {
+      if (warn) *warn += "material library " + path + " not found\n";
+      return false;
+    }
+    const std::string text = read_file_bytes(path, kMaxMtlBytes);
+    MemoryBuf buf(text);
+    std::istream in(&buf);
+    tinyobj::LoadMtl(names, materials, &in, warn, err);
+    return true;
+  }
+
+ private:
+  std::string dir_;
 };
 
 struct ObjBuild {
@@ -108,6 +144,13 @@ Material chosen_material(const ObjBuild& b) {
   Material mat;
   if (best < 0) return mat;
   const tinyobj::material_t& t = b.materials[static_cast<size_t>(best)];
+  // The scene JSON's rules for a material: colours and shininess finite, >= 0.
+  for (const double c :
+       {double(t.diffuse[0]), double(t.diffuse[1]), double(t.diffuse[2]), double(t.specular[0]),
+        double(t.specular[1]), double(t.specular[2]), double(t.shininess)})
+    if (!(std::isfinite(c) && c >= 0.0))
+      throw InputError(b.mesh.name,
+                       "material '" + t.name + "': Kd, Ks and Ns must be finite and >= 0");
   mat.diffuse = Vec3f(float(t.diffuse[0]), float(t.diffuse[1]), float(t.diffuse[2]));
   mat.specular = Vec3f(float(t.specular[0]), float(t.specular[1]), float(t.specular[2]));
   mat.shininess = float(t.shininess);
@@ -163,8 +206,7 @@ TriangleMesh read_obj(const std::string& path, std::string_view text) {
   cb.mtllib_cb = on_mtllib;
 
   const size_t slash = path.find_last_of('/');
-  tinyobj::MaterialFileReader mtl_reader(slash == std::string::npos ? std::string("./")
-                                                                    : path.substr(0, slash + 1));
+  MtlReader mtl_reader(slash == std::string::npos ? std::string("./") : path.substr(0, slash + 1));
   MemoryBuf buf(text);
   std::istream in(&buf);
   std::string warn, err;

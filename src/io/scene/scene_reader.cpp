@@ -10,8 +10,10 @@
 #include <cmath>
 #include <filesystem>
 #include <optional>
+#include <utility>
 
 #include "core/error.h"
+#include "core/frame_pattern.h"
 #include "io/files/file_bytes.h"
 #include "io/mesh/generate_mesh.h"
 #include "io/mesh/mesh_reader.h"
@@ -22,7 +24,6 @@ namespace hprt {
 namespace {
 
 constexpr size_t kMaxSceneBytes = size_t{64} << 20;
-constexpr int64_t kMaxPixels = int64_t{16384} * 16384;
 constexpr int kMaxDepth = 64;
 constexpr int64_t kMaxFrames = 1'000'000;
 
@@ -105,6 +106,12 @@ class SceneParser {
   [[noreturn]] void fail(const std::string& field, const std::string& problem) const {
     throw_field_error(path_, field, problem);
   }
+  float lens_mm(const Json& j, const std::string& field) const {
+    const float v = json_float(path_, j, field);
+    if (!(v >= kMinLensMm && v <= kMaxLensMm))
+      fail(field, "must be in [0.1, 100000] mm, got " + j.dump());
+    return v;
+  }
   float positive(const Json& j, const std::string& field) const {
     const float v = json_float(path_, j, field);
     if (!(v > 0.0f)) fail(field, "must be positive, got " + j.dump());
@@ -135,17 +142,22 @@ class SceneParser {
     if (const Json* v = o.find("look_at")) c.look_at = json_vec3(path_, *v, o.field("look_at"));
     if (const Json* v = o.find("up")) c.up = json_vec3(path_, *v, o.field("up"));
     if (const Json* v = o.find("focal_length_mm"))
-      c.focal_length_mm = positive(*v, o.field("focal_length_mm"));
+      c.focal_length_mm = lens_mm(*v, o.field("focal_length_mm"));
     if (const Json* v = o.find("sensor_width_mm"))
-      c.sensor_width_mm = positive(*v, o.field("sensor_width_mm"));
+      c.sensor_width_mm = lens_mm(*v, o.field("sensor_width_mm"));
     if (const Json* v = o.find("width"))
-      c.width = int(integer_in(*v, o.field("width"), 1, kMaxPixels));
+      c.width = int(integer_in(*v, o.field("width"), 1, kMaxCameraPixels));
     if (const Json* v = o.find("height"))
-      c.height = int(integer_in(*v, o.field("height"), 1, kMaxPixels));
+      c.height = int(integer_in(*v, o.field("height"), 1, kMaxCameraPixels));
     o.finish();
-    if (int64_t(c.width) * c.height > kMaxPixels)
+    if (int64_t(c.width) * c.height > kMaxCameraPixels)
       fail("camera.width", std::to_string(c.width) + "x" + std::to_string(c.height) +
                                " is more than 16384x16384 pixels");
+    for (const auto& [field, p] :
+         {std::pair{"camera.position", c.position}, std::pair{"camera.look_at", c.look_at}})
+      if (!(std::fabs(p.x) <= kMaxCameraCoordinate && std::fabs(p.y) <= kMaxCameraCoordinate &&
+            std::fabs(p.z) <= kMaxCameraCoordinate))
+        fail(field, "components must be within +-1e18");
     const Vec3d fwd = Vec3d(c.look_at) - Vec3d(c.position);
     if (length(fwd) == 0.0) fail("camera.look_at", "equals camera.position");
     const Vec3d side = cross(normalize(fwd), Vec3d(c.up));
@@ -307,6 +319,26 @@ class SceneParser {
         if (!pattern) fail(index(list, i), "missing field 'pattern'");
         s.pattern = json_string(path_, *pattern, q.field("pattern"));
         if (s.pattern.empty()) fail(q.field("pattern"), "empty pattern");
+        // Checked here, naming the scene and the field, not first when an
+        // animation is played.
+        bool numbered = false;
+        try {
+          numbered = has_frame_number(s.pattern, q.field("pattern"));
+        } catch (const InputError& e) {  // "field: 'pattern': problem"
+          const std::string m = e.what();
+          fail(q.field("pattern"), m.substr(m.find(": ") + 2));
+        }
+        if (!numbered && a.frames > 1)
+          fail(q.field("pattern"), "'" + s.pattern +
+                                       "' has no frame number (%d, %04d, ...) for the " +
+                                       std::to_string(a.frames) + " frames");
+        for (const FrameSequenceSpec& other : a.sequences)
+          if (other.mesh == s.mesh)
+            fail(index(list, i), "mesh " + std::to_string(s.mesh) + " has two frame sequences");
+        for (const DeformerSpec& d : a.deformers)
+          if (d.mesh == s.mesh)
+            fail(index(list, i), "mesh " + std::to_string(s.mesh) +
+                                     " has deformers too: a mesh is animated by one or the other");
         s.pattern = resolve(s.pattern);
         if (const Json* x = q.find("first"))
           s.first = int(integer_in(*x, q.field("first"), 0, INT32_MAX));

@@ -1,6 +1,6 @@
 // Numbered file names (see frame_pattern.h): a small parser for one
 // %[0][width]d conversion, so no user text ever reaches printf.
-#include "anim/frame_pattern.h"
+#include "core/frame_pattern.h"
 
 #include <cstdlib>
 #include <string>
