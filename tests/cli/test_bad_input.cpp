@@ -270,6 +270,15 @@ TEST_F(BadInput, CamerasAnimationsAndOutputsThatCannotWork) {
     expect_rejected("animation " + fields, "build a.json",
                     {"a.json", "animation.sequences[0]", problem});
   }
+  // Outputs that name a directory or nothing fail before the work.
+  fs::create_directory(dir_ / "out.hits");
+  fs::create_directory(dir_ / "out.png");
+  ASSERT_EQ(run("rays good.ply --kind random -n 10 -o r.rays").code, 0);
+  expect_rejected("-o naming a directory", "trace good.ply --rays r.rays -o out.hits",
+                  {"out.hits", "is a directory"});
+  expect_rejected("an image -o naming a directory", "render good.ply -o out.png",
+                  {"out.png", "is a directory"});
+  expect_rejected("-o ''", "trace good.ply --rays r.rays -o ''", {"--output", "empty"});
   // generate writes binary PLY only: another name would not read back.
   expect_rejected("generate -o x.obj", "generate sphere --tris 100 -o x.obj", {"x.obj", ".ply"});
   expect_rejected("generate -o x.ply.gz", "generate sphere --tris 100 -o x.ply.gz", {"x.ply.gz"});

@@ -54,6 +54,9 @@ bool is_float_image_format(const std::string& path) {
 }
 
 void check_image_output(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(path, "is a directory: name a file to write");
   require_writer(path);
   AtomicFile probe(path);  // throws when the directory is missing or unwritable
 }
