@@ -154,9 +154,14 @@ py::array_t<T> result_array(const std::vector<py::ssize_t>& shape) {
 }
 
 // A plugin's malformed answers since `before` (RaycastingScene::malformed_since)
-// as a RuntimeWarning, the CLI's warning line.
+// as a RuntimeWarning, the CLI's warning line. (Queries of other threads
+// meanwhile count too.)
 void warn_malformed(const PyScene& s, uint64_t before) {
-  const std::string w = s.scene->malformed_since(before);
+  std::string w;
+  {
+    py::gil_scoped_release nogil;
+    w = s.scene->malformed_since(before);
+  }
   if (!w.empty() && PyErr_WarnEx(PyExc_RuntimeWarning, w.c_str(), 1) != 0)
     throw py::error_already_set();
 }
@@ -169,9 +174,10 @@ py::dict cast_rays(PyScene& s, const py::handle& rays_in, int nthreads) {
   auto geom = result_array<uint32_t>(shape), prim = result_array<uint32_t>(shape);
   const rc::CastOutput out{t.mutable_data(), geom.mutable_data(), prim.mutable_data(),
                            uvs.mutable_data(), normals.mutable_data()};
-  const uint64_t malformed = s.scene->info().malformed_answers;
+  uint64_t malformed = 0;
   {
-    py::gil_scoped_release nogil;
+    py::gil_scoped_release nogil;  // info() may wait for another thread's build
+    malformed = s.scene->info().malformed_answers;
     s.scene->cast_rays({rays.data(), size_t(rays.size())}, out, nthreads);
   }
   warn_malformed(s, malformed);
@@ -189,9 +195,10 @@ py::array test_occlusions(PyScene& s, const py::handle& rays_in, float tnear, fl
   const FloatArray rays = float_array(rays_in, "rays", 6);
   auto occluded = result_array<bool>(leading(rays));
   static_assert(sizeof(bool) == 1);
-  const uint64_t malformed = s.scene->info().malformed_answers;
+  uint64_t malformed = 0;
   {
     py::gil_scoped_release nogil;
+    malformed = s.scene->info().malformed_answers;
     s.scene->test_occlusions({rays.data(), size_t(rays.size())}, tnear, tfar,
                              reinterpret_cast<uint8_t*>(occluded.mutable_data()), nthreads);
   }
@@ -393,7 +400,8 @@ PYBIND11_MODULE(hprt, m) {
            "the queries under way in other threads, and later queries wait for it")
       .def("cast_rays", &cast_rays, py::arg("rays"), py::arg("nthreads") = 0,
            "closest hits of (..., 6) rays [ox, oy, oz, dx, dy, dz]: a dict of t_hit (inf on a "
-           "miss), geometry_ids and primitive_ids (INVALID_ID on a miss), primitive_uvs (..., 2) "
+           "miss; NaN, with a RuntimeWarning, for a plugin's malformed answer), geometry_ids and "
+           "primitive_ids (INVALID_ID on a miss), primitive_uvs (..., 2) "
            "and primitive_normals (..., 3): the hit triangle's unit normal (v1 - v0) x (v2 - v0), "
            "the same bits on every backend, 0 on a miss")
       .def("test_occlusions", &test_occlusions, py::arg("rays"), py::arg("tnear") = 0.0f,

@@ -26,9 +26,10 @@
  * call concurrently on one built backend. create(), build(), update() and
  * destroy() are never called concurrently with anything on the same backend.
  * A call gets 1 to 256 rays (any count, not only multiples of 16); records
- * are aligned to 16 bytes, not more. intersect() must write every hit record
- * of its call (a miss too) and occluded() every byte: hprt does not
- * pre-fill them, and a record left as it was counts as malformed (below).
+ * are aligned only as their fields are (4 bytes): assume no more.
+ * intersect() must write every hit record of its call (a miss too) and
+ * occluded() every byte: hprt fills them with malformed values before the
+ * call, so a record left as it was counts as malformed (below).
  * `threads` in create() is the thread count the user asked for (0 = every
  * hardware thread); a plugin may use it to size its own build.
  *

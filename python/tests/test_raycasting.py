@@ -707,3 +707,24 @@ def test_plugins_that_keep_arrays_or_answer_nothing():
             occ = scene.test_occlusions(rays)
         assert occ.dtype == np.bool_ and occ.view(np.uint8).tolist() == [1] * 5
         assert scene.info()["malformed_answers"] == 10
+
+
+def test_malformed_warning_counts_only_the_call():
+    import warnings
+    lies = os.environ.get("HPRT_TEST_PLUGIN_MALFORMED")
+    if not lies:
+        pytest.skip("HPRT_TEST_PLUGIN_MALFORMED not set")
+    v, t = grid(4)
+    scene = hprt.RaycastingScene(backend="plugin:" + lies)
+    scene.add_triangles(v, t)
+    hits = np.array([down(0.1 * k - 0.5, 0.2) for k in range(12)], np.float32)
+    with pytest.warns(RuntimeWarning, match="malformed answers"):
+        scene.cast_rays(hits)
+    before = scene.info()["malformed_answers"]
+    assert before > 0
+    scene.add_triangles(v + np.float32([10, 0, 0]), t)  # rebuilt at the next query
+    assert scene.info()["malformed_answers"] == before
+    misses = np.array([down(50.0, 50.0)] * 4, np.float32)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no warning: this call's answers are all well formed
+        assert np.isinf(scene.cast_rays(misses)["t_hit"]).all()

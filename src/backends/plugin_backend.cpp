@@ -52,6 +52,8 @@ std::string plugin_message(const std::array<char, kErrorSize>& buf) {
 const hprt_plugin_v1* load_table(const std::string& path) {
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) throw InputError(path, "plugin file not found");
+  // dlopen() opens the file blocking: a FIFO would wait for ever.
+  if (!S_ISREG(st.st_mode)) throw InputError(path, "not a regular file");
   // A bare file name means this directory, as for every other file argument.
   const std::string open_path = path.find('/') == std::string::npos ? "./" + path : path;
   // Never dlclose'd: a library that registered thread-local destructors or

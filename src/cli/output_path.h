@@ -12,7 +12,7 @@ namespace hprt::cli {
 
 inline void check_output_directory(const std::string& path) {
   std::error_code ec;
-  if (path.empty()) throw InputError("--output", "empty file name");
+  if (path.empty()) throw InputError("output path", "empty file name");
   if (std::filesystem::is_directory(path, ec))
     throw InputError(path, "is a directory: name a file to write");
   const std::filesystem::path parent = std::filesystem::path(path).parent_path();

@@ -41,7 +41,7 @@ inline std::string malformed_warning(const std::string& backend_name, uint64_t m
   return backend_name + " gave " + std::to_string(malformed) +
          " malformed answers (t outside [tnear, tfar], ids out of range, u/v outside the "
          "triangle, a record left unwritten, or a byte not 0/1); hits taken as misses with "
-         "t = NaN, bytes as given";
+         "t = NaN, such bytes as occluded";
 }
 
 }  // namespace hprt

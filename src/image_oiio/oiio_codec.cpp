@@ -86,26 +86,26 @@ std::string read(const std::string& path, Image& img) {
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0 || spec.depth > 1)
     return "image has no pixels";
   const size_t row = size_t(img.width) * size_t(img.channels);
-  if (spec.tile_width > 0) {  // tiled (some EXR and TIFF): one read
-    img.pixels.resize(row * size_t(img.height));
-    if (!in->read_image(0, 0, 0, img.channels, OIIO::TypeDesc::FLOAT, img.pixels.data()))
-      return "cannot read image: " + in->geterror();
-  } else {
-    // Strips of about 1 MiB, the buffer growing as the rows arrive: a header
-    // that claims more pixels than the file holds fails at its first
-    // missing row, before its size is allocated.
-    const int strip = int(std::max<size_t>(1, (size_t{1} << 18) / row));
-    for (int y = 0; y < img.height; y += strip) {
-      const int end = std::min(img.height, y + strip);
-      const size_t need = row * size_t(end);
-      if (need > img.pixels.capacity())
-        img.pixels.reserve(
-            std::max(need, std::min(2 * img.pixels.capacity(), row * size_t(img.height))));
-      img.pixels.resize(need);
-      if (!in->read_scanlines(0, 0, spec.y + y, spec.y + end, 0, 0, img.channels,
-                              OIIO::TypeDesc::FLOAT, img.pixels.data() + row * size_t(y)))
-        return "cannot read image: " + in->geterror();
-    }
+  // Strips of about 1 MiB (whole rows of tiles in a tiled file), the buffer
+  // growing as the rows arrive: a header that claims more pixels than the
+  // file holds fails at its first missing row, before its size is allocated.
+  const bool tiled = spec.tile_width > 0;
+  const int unit = tiled ? std::max(1, spec.tile_height) : 1;
+  const int strip = unit * int(std::max<size_t>(1, (size_t{1} << 18) / (row * size_t(unit))));
+  for (int y = 0; y < img.height; y += strip) {
+    const int end = std::min(img.height, y + strip);
+    const size_t need = row * size_t(end);
+    if (need > img.pixels.capacity())
+      img.pixels.reserve(
+          std::max(need, std::min(2 * img.pixels.capacity(), row * size_t(img.height))));
+    img.pixels.resize(need);
+    float* dst = img.pixels.data() + row * size_t(y);
+    const bool ok =
+        tiled ? in->read_tiles(0, 0, spec.x, spec.x + spec.width, spec.y + y, spec.y + end, spec.z,
+                               spec.z + 1, 0, img.channels, OIIO::TypeDesc::FLOAT, dst)
+              : in->read_scanlines(0, 0, spec.y + y, spec.y + end, 0, 0, img.channels,
+                                   OIIO::TypeDesc::FLOAT, dst);
+    if (!ok) return "cannot read image: " + in->geterror();
   }
   in->close();
   return "";

@@ -336,10 +336,10 @@ SceneInfo RaycastingScene::info() const {
   i.normals_bytes = normals_ ? normals_->memory_bytes() : 0;
   const api::BackendInfo b = backend_->info();
   i.backend = b.name;
+  i.malformed_answers = b.malformed_answers;  // the backend's count since it was made
   if (!stale_ || only_moved_) {
     i.build_ms = b.build_ms;
     i.memory_bytes = b.memory_bytes;
-    i.malformed_answers = b.malformed_answers;
   }
   return i;
 }

@@ -278,7 +278,7 @@ TEST_F(BadInput, CamerasAnimationsAndOutputsThatCannotWork) {
                   {"out.hits", "is a directory"});
   expect_rejected("an image -o naming a directory", "render good.ply -o out.png",
                   {"out.png", "is a directory"});
-  expect_rejected("-o ''", "trace good.ply --rays r.rays -o ''", {"--output", "empty"});
+  expect_rejected("-o ''", "trace good.ply --rays r.rays -o ''", {"output path", "empty"});
   // generate writes binary PLY only: another name would not read back.
   expect_rejected("generate -o x.obj", "generate sphere --tris 100 -o x.obj", {"x.obj", ".ply"});
   expect_rejected("generate -o x.ply.gz", "generate sphere --tris 100 -o x.ply.gz", {"x.ply.gz"});

@@ -5,6 +5,7 @@
 // rays` with its malformed answers counted; a broken one exits 2 with one
 // line naming the file and the problem.
 #include <gtest/gtest.h>
+#include <sys/stat.h>
 
 #include <string>
 
@@ -88,6 +89,7 @@ TEST_F(CliPlugin, ValidateRaysEitherSide) {
 TEST_F(CliPlugin, BrokenPluginsExitTwoWithOneLine) {
   const std::pair<std::string, std::string> cases[] = {
       {"plugin:" + path("missing.so"), "missing.so: plugin file not found"},
+      {"plugin:" + path("fifo.so"), "fifo.so: not a regular file"},  // dlopen would block
       {std::string("plugin:") + HPRT_TEST_PLUGIN_BAD_ABI, "plugin ABI version 2"},
       {std::string("plugin:") + HPRT_TEST_PLUGIN_NULL_INTERSECT, "NULL 'intersect'"},
       {std::string("plugin:") + HPRT_TEST_PLUGIN_NO_ENTRY, "no hprt_plugin_entry symbol"},
@@ -97,6 +99,7 @@ TEST_F(CliPlugin, BrokenPluginsExitTwoWithOneLine) {
       {"plugin:", "names no plugin file"},
       {"optix", "unknown backend"},
   };
+  ASSERT_EQ(::mkfifo(path("fifo.so").c_str(), 0600), 0);
   for (const auto& [spec, problem] : cases) {
     for (const std::string& cmd :
          {"validate rays " + mesh_ + " --kind random -n 10 --backend ",

@@ -5,6 +5,7 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 
@@ -95,6 +96,35 @@ TEST(ImageDiff, PngRoundTripMatchesInMemoryEncoding) {
   size_t files = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator(dir)) ++files;
   EXPECT_EQ(files, 3u);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(ImageDiff, TallScanlineAndTiledImagesReadWholeInStrips) {
+  // Read a strip of rows (or of tile rows) at a time: an image of many
+  // strips, and the same tiled with its data window moved, read back exactly.
+  const std::string dir = temp_dir();
+  const int w = 300, h = 2000;  // rows of 900 floats: strips of 291 rows
+  std::vector<Vec3f> linear(size_t(w) * h);
+  for (size_t i = 0; i < linear.size(); ++i)
+    linear[i] = Vec3f(float(i % 977) / 977.0f, float(i / w) / h, 0.25f);
+  const std::string exr = dir + "/tall.exr";
+  write_image(exr, w, h, linear);
+  const auto expect_same = [&](const Image& img) {
+    ASSERT_EQ(img.width, w);
+    ASSERT_EQ(img.height, h);
+    for (int y = 0; y < h; y += 97)
+      for (int x = 0; x < w; x += 13)
+        ASSERT_EQ(img.at(x, y, 0), linear[size_t(y) * w + size_t(x)].x) << x << "," << y;
+    EXPECT_EQ(img.at(w - 1, h - 1, 1), linear.back().y);
+  };
+  expect_same(read_image(exr));
+  if (std::system("command -v oiiotool >/dev/null 2>&1") == 0) {
+    const std::string tiled = dir + "/tiled.exr";
+    ASSERT_EQ(std::system(
+                  ("oiiotool '" + exr + "' --origin +3+5 --tile 64 32 -o '" + tiled + "'").c_str()),
+              0);
+    expect_same(read_image(tiled));
+  }
   std::filesystem::remove_all(dir);
 }
 

@@ -1,6 +1,6 @@
 // Image reading and writing through the image codec (OpenImageIO, loaded on
 // first use: image_codec.h). The format is chosen from the target name's
-// extension and the file written under the AtomicFile's temporary name.
+// extension; the codec encodes into memory and write_file_atomic writes it.
 #include "io/image/image_io.h"
 
 #include <algorithm>
@@ -81,6 +81,8 @@ void write_image(const std::string& path, int width, int height, std::span<const
       image_codec(path).write(path, encoded, width, height, as_float,
                               as_float ? static_cast<const void*>(rgb.data()) : bytes.data());
   if (!err.empty()) throw InputError(path, err);
+  // (OIIO's JPEG 2000 writer, for one, "succeeds" into memory with no bytes.)
+  if (encoded.empty()) throw InputError(path, "the image writer produced no data");
   write_file_atomic(path, encoded.data(), encoded.size());  // whole or not at all, disk full too
 }
 
