@@ -5,6 +5,7 @@
 // into fresh arrays, the GIL released around every build and query, and
 // errors turned into Python exceptions with the CLI's one-line message.
 #include <hprt/hprt.h>
+#include <pybind11/eval.h>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -527,4 +528,49 @@ PYBIND11_MODULE(hprt, m) {
         return py::make_tuple(v, t);
       },
       py::arg("path"), "(vertices (N,3) float32, triangles (M,3) uint32) of a mesh file");
+
+  // pybind11's TypeError for arguments no overload takes spans several
+  // lines and prints the arguments' reprs (a whole ray array): every
+  // function and method is wrapped to raise it on one line instead, with
+  // the argument types. (A catch-all overload cannot do it: pybind11 tries
+  // overloads first without conversions, where it would win over an int
+  // given for a float.)
+  py::dict scope;
+  scope["hprt"] = m;
+  // clang-format off
+  py::exec(R"py(
+import functools
+
+def one_line_type_errors(owner, name, qualname, skip):
+    raw = owner.__dict__[name] if isinstance(owner, type) else getattr(owner, name)
+    static = isinstance(raw, staticmethod)
+    fn = raw.__func__ if static else raw
+
+    @functools.wraps(fn)
+    def call(*args, **kwargs):
+        try:
+            return fn(*args, **kwargs)
+        except TypeError as e:
+            text = str(e)
+            if "incompatible function arguments" not in text and \
+                    "incompatible constructor arguments" not in text:
+                raise
+            types = [type(a).__name__ for a in args[skip:]]
+            types += [k + "=" + type(v).__name__ for k, v in kwargs.items()]
+            raise TypeError(qualname + "(): no signature takes (" + ", ".join(types) +
+                            "); see help(hprt." + qualname + ")") from None
+
+    setattr(owner, name, staticmethod(call) if static else call)
+
+scene = hprt.RaycastingScene
+one_line_type_errors(scene, "__init__", "RaycastingScene", 1)
+for name in ("add_triangles", "update_triangles", "cast_rays", "test_occlusions",
+             "count_intersections", "list_intersections", "compute_closest_points",
+             "compute_distance", "compute_signed_distance", "compute_occupancy", "info"):
+    one_line_type_errors(scene, name, "RaycastingScene." + name, 1)
+one_line_type_errors(scene, "create_rays_pinhole", "RaycastingScene.create_rays_pinhole", 0)
+for name in ("validate_rays", "render", "load_mesh"):
+    one_line_type_errors(hprt, name, name, 0)
+)py", scope);
+  // clang-format on
 }

@@ -728,3 +728,31 @@ def test_malformed_warning_counts_only_the_call():
     with warnings.catch_warnings():
         warnings.simplefilter("error")  # no warning: this call's answers are all well formed
         assert np.isinf(scene.cast_rays(misses)["t_hit"]).all()
+
+
+def test_argument_type_errors_are_one_line():
+    # pybind11's own message spans lines and prints the arrays; hprt's names
+    # the call and the argument types on one line.
+    scene = hprt.RaycastingScene()
+    v, t = grid(2)
+    scene.add_triangles(v, t)
+    rays = np.zeros((1000, 6), np.float32)
+    calls = [lambda: scene.cast_rays(rays, nthreads=None),
+             lambda: scene.test_occlusions(rays, tnear="a"),
+             lambda: scene.update_triangles(-1, v),
+             lambda: hprt.RaycastingScene.create_rays_pinhole(60, [0, 0, 0], [0, 0, 1],
+                                                              [0, 1, 0], 4.0, 4),
+             lambda: hprt.validate_rays(None, rays),
+             lambda: hprt.RaycastingScene(nthreads="x"),
+             lambda: hprt.load_mesh(),
+             lambda: scene.compute_distance(rays[:, :3], nthreads=1.5)]
+    for call in calls:
+        with pytest.raises(TypeError) as e:
+            call()
+        assert "\n" not in str(e.value) and "no signature takes (" in str(e.value), str(e.value)
+    assert "cast_rays(): no signature takes (ndarray, nthreads=NoneType)" in str(
+        pytest.raises(TypeError, calls[0]).value)
+    # Conversions the signatures allow still work (an int for a float).
+    assert scene.test_occlusions(rays[:1], tnear=0, tfar=2).shape == (1,)
+    assert hprt.RaycastingScene.create_rays_pinhole(60, [0, 0, 0], [0, 0, 1], [0, 1, 0], 4,
+                                                    4).shape == (4, 4, 6)
