@@ -1,9 +1,10 @@
 // The `hprt` Python module: numpy arrays in and out of
 // hprt::raycasting::RaycastingScene (src/raycasting) and the public API
 // (include/hprt/hprt.h). Only conversions live here: dtype and shape checks,
-// arrays read in place where their dtype and layout allow, results written
-// into fresh arrays, the GIL released around every build and query, and
-// errors turned into Python exceptions with the CLI's one-line message.
+// rays and points read in place where their dtype and layout allow (meshes
+// are copied, as Open3D copies them), results written into fresh arrays,
+// the GIL released around every build and query, and errors turned into
+// Python exceptions with the CLI's one-line message.
 #include <hprt/hprt.h>
 #include <pybind11/eval.h>
 #include <pybind11/numpy.h>
