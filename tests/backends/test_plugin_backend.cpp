@@ -122,8 +122,10 @@ TEST(PluginBackend, UpdateRebuildBuildsAndAKeptPointerSeesTheNewFrame) {
   good->build(s);
   good->update(s);
   EXPECT_TRUE(good->info().rebuilt);
-  // KEEP's update() keeps the build's pointers: hprt moved the vertices in
-  // place, so it answers for the new frame as Embree does.
+  // KEEP's update() keeps the build's pointers: with the vertices moved in
+  // place (as the CLI's animations and the Python module move them) it
+  // answers for the new frame as Embree does. The Python suite checks that
+  // update_triangles really writes into those arrays.
   auto keep = make_intersector(plugin(HPRT_TEST_PLUGIN_KEEP), BackendOptions{});
   keep->build(s);
   for (Vec3f& v : s.meshes[0].positions) v = v * 0.5f;
