@@ -82,14 +82,8 @@ void compare_with_embree(const Scene& scene, const std::vector<Ray>& rays, Trian
   EXPECT_LE(ties, hits / 100 + 5);
 }
 
-Scene scene_of(std::vector<TriangleMesh> meshes) {
-  Scene s;
-  for (auto& m : meshes) s.add_mesh(std::move(m));
-  return s;
-}
-
 TEST(BvhBackend, AgreesWithEmbreeOnSoup) {
-  const Scene scene = scene_of({test::random_soup(20000, 5, 0.03f)});
+  const Scene scene = test::scene_of({test::random_soup(20000, 5, 0.03f)});
   const auto rays = test::random_rays(scene.bounds(), 10000, 17);
   compare_with_embree(scene, rays, TriangleTestKind::kWatertight, BuilderKind::kParallel);
   compare_with_embree(scene, rays, TriangleTestKind::kMoller, BuilderKind::kBinned);
@@ -100,7 +94,7 @@ TEST(BvhBackend, AgreesWithEmbreeOnSoup) {
 }
 
 TEST(BvhBackend, AgreesWithEmbreeOnClosedSphere) {
-  const Scene scene = scene_of({test::icosphere(5), test::grid(30, 30)});
+  const Scene scene = test::scene_of({test::icosphere(5), test::grid(30, 30)});
   auto rays = test::random_rays(scene.bounds(), 10000, 23);
   const auto more = test::coherent_rays(scene.bounds(), 60, 40);
   rays.insert(rays.end(), more.begin(), more.end());
@@ -116,7 +110,7 @@ TEST(BvhBackend, AgreesWithEmbreeOnClosedSphere) {
 // give the same answers bit for bit, for both triangle tests, after a build
 // and after a refit of the deformed scene.
 TEST(BvhBackend, LayoutsAnswerIdentically) {
-  const Scene scene = scene_of({test::random_soup(20000, 9, 0.03f), test::icosphere(4)});
+  const Scene scene = test::scene_of({test::random_soup(20000, 9, 0.03f), test::icosphere(4)});
   Scene moved = scene;
   for (TriangleMesh& m : moved.meshes)
     for (Vec3f& p : m.positions) p = p + Vec3f{0.1f * std::sin(7 * p.y), 0.0f, 0.05f * p.x};
@@ -166,7 +160,7 @@ TEST(BvhBackend, LayoutsAnswerIdentically) {
 }
 
 TEST(BvhBackend, OneAndTwoThreadsIdentical) {
-  const Scene scene = scene_of({test::random_soup(30000, 8, 0.03f)});
+  const Scene scene = test::scene_of({test::random_soup(30000, 8, 0.03f)});
   const auto rays = test::random_rays(scene.bounds(), 10000, 29);
   for (TriangleTestKind kind : {TriangleTestKind::kWatertight, TriangleTestKind::kMoller}) {
     BackendOptions o;
@@ -189,7 +183,7 @@ TEST(BvhBackend, OneAndTwoThreadsIdentical) {
 // fresh build of the moved scene, for both SAH and Morton trees, at 2
 // threads. Without the option it reports the same SAH cost and counts.
 TEST(BvhBackend, RebuildingUpdateEqualsAFreshBuild) {
-  const Scene scene = scene_of({test::random_soup(6000, 12, 0.03f), test::icosphere(3)});
+  const Scene scene = test::scene_of({test::random_soup(6000, 12, 0.03f), test::icosphere(3)});
   Scene moved = scene;
   for (TriangleMesh& m : moved.meshes)
     for (Vec3f& p : m.positions) p = p + Vec3f{0.2f * std::sin(5 * p.y), 0.1f * p.z, 0.0f};
@@ -237,7 +231,7 @@ TEST(BvhBackend, RebuildingUpdateEqualsAFreshBuild) {
 // the first rebuild already (no fresh pages on the first frame), and the
 // rebuild over them answers as a fresh build.
 TEST(BvhBackend, AnimatedSceneKeepsItsBuildArrays) {
-  Scene scene = scene_of({test::random_soup(100000, 4, 0.01f)});
+  Scene scene = test::scene_of({test::random_soup(100000, 4, 0.01f)});
   DeformerSpec wave;
   wave.mesh = 0;
   wave.kind = "wave";
@@ -264,7 +258,7 @@ TEST(BvhBackend, AnimatedSceneKeepsItsBuildArrays) {
 // and answers, also after an adaptive rebuild in between and for every
 // layout and triangle test.
 TEST(BvhBackend, RefitAfterAOneOffBuildEqualsRefitOfAnAnimatedBuild) {
-  Scene still = scene_of({test::random_soup(20000, 6, 0.02f), test::icosphere(3)});
+  Scene still = test::scene_of({test::random_soup(20000, 6, 0.02f), test::icosphere(3)});
   Scene animated = still;
   DeformerSpec wave;
   wave.mesh = 0;
@@ -319,7 +313,7 @@ TEST(BvhBackend, RefitAfterAOneOffBuildEqualsRefitOfAnAnimatedBuild) {
 TEST(BvhBackend, KeepsBuildArraysOnlyForUpdatesAndRebuildsOverThemExactly) {
   // Large enough for arrays of at least 2 MiB (the prim boxes: 2.4 MB), the
   // sizes the cache takes.
-  const Scene scene = scene_of({test::random_soup(100000, 4, 0.01f)});
+  const Scene scene = test::scene_of({test::random_soup(100000, 4, 0.01f)});
   Scene moved = scene;
   for (Vec3f& p : moved.meshes[0].positions) p = p + Vec3f{0.1f * std::sin(7 * p.y), 0.0f, 0.0f};
   const auto rays = test::random_rays(scene.bounds(), 2000, 35);
@@ -354,7 +348,7 @@ TEST(BvhBackend, KeepsBuildArraysOnlyForUpdatesAndRebuildsOverThemExactly) {
 }
 
 TEST(BvhBackend, InfoReportsTheBuild) {
-  const Scene scene = scene_of({test::with_invalid_triangles(), test::random_soup(1000, 1)});
+  const Scene scene = test::scene_of({test::with_invalid_triangles(), test::random_soup(1000, 1)});
   BackendOptions o;
   o.build.builder = BuilderKind::kBinned;
   o.triangle_test = TriangleTestKind::kMoller;
@@ -383,7 +377,7 @@ TEST(BvhBackend, EmptySceneAndInvalidRaysMiss) {
   rays[4].tnear = 3.0f;
   rays[4].tfar = 1.0f;
   rays[5].tfar = nan;
-  for (const Scene& scene : {scene_of({}), scene_of({test::grid(4, 4)})}) {
+  for (const Scene& scene : {test::scene_of({}), test::scene_of({test::grid(4, 4)})}) {
     const Answers a = run(scene, rays, BackendOptions{}, "bvh", 2);
     for (size_t i = 0; i < rays.size(); ++i) {
       EXPECT_FALSE(a.hits[i].hit()) << i;

@@ -9,11 +9,12 @@
 #include "backends/embree_backend.h"
 #include "core/error.h"
 #include "core/parallel.h"
+#include "tests/support/bvh_trace_helpers.h"
 
 namespace hprt {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using test::kInf;
 constexpr float kNaN = std::numeric_limits<float>::quiet_NaN();
 
 TriangleMesh one_triangle(Vec3f offset = Vec3f(0.0f)) {

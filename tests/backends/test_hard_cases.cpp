@@ -21,7 +21,7 @@
 namespace hprt {
 namespace {
 
-constexpr float kInf = std::numeric_limits<float>::infinity();
+using test::kInf;
 
 TriangleMesh transformed(TriangleMesh m, float scale, Vec3f offset) {
   for (Vec3f& p : m.positions) p = p * scale + offset;

@@ -26,12 +26,6 @@
 namespace hprt {
 namespace {
 
-Scene scene_of(std::vector<TriangleMesh> meshes) {
-  Scene s;
-  for (auto& m : meshes) s.add_mesh(std::move(m));
-  return s;
-}
-
 // Random rays, a pinhole grid (whole coherent groups of 16: packets), and
 // some invalid ones.
 std::vector<Ray> mixed_rays(const AABB& box, size_t n) {
@@ -166,7 +160,7 @@ TEST(TriangleNormal, UnitCrossOfTheEdgesInDoubleZeroWhenDegenerate) {
 
 TEST(HitColumns, EveryLayoutBothTestsAndEmbreeGiveTheTrianglesOwnBits) {
   const Scene scene =
-      scene_of({test::random_soup(20000, 5, 0.03f), test::icosphere(4), test::grid(20, 20)});
+      test::scene_of({test::random_soup(20000, 5, 0.03f), test::icosphere(4), test::grid(20, 20)});
   const std::vector<Ray> rays = mixed_rays(scene.bounds(), 8000);
   for (const TriangleTestKind kind : {TriangleTestKind::kWatertight, TriangleTestKind::kMoller})
     for (const BvhLayout layout : {BvhLayout::kBvh2, BvhLayout::kBvh4, BvhLayout::kBvh8}) {
@@ -194,7 +188,7 @@ TEST(HitColumns, EveryLayoutBothTestsAndEmbreeGiveTheTrianglesOwnBits) {
 }
 
 TEST(HitColumns, SeveralRaysInFlightOnATreeFromMemory) {
-  const Scene scene = scene_of({generate_sphere(300000)});
+  const Scene scene = test::scene_of({generate_sphere(300000)});
   const std::vector<Ray> rays = mixed_rays(scene.bounds(), 20000);
   for (const TriangleTestKind kind : {TriangleTestKind::kWatertight, TriangleTestKind::kMoller}) {
     BackendOptions o;
@@ -209,7 +203,7 @@ TEST(HitColumns, SeveralRaysInFlightOnATreeFromMemory) {
 }
 
 TEST(HitColumns, FollowARefitAndARebuild) {
-  Scene scene = scene_of({test::icosphere(4), test::random_soup(5000, 3, 0.05f)});
+  Scene scene = test::scene_of({test::icosphere(4), test::random_soup(5000, 3, 0.05f)});
   const std::vector<Ray> rays = mixed_rays(scene.bounds(), 4000);
   for (const TriangleTestKind kind : {TriangleTestKind::kWatertight, TriangleTestKind::kMoller})
     for (const UpdateStrategy update : {UpdateStrategy::kRefit, UpdateStrategy::kRebuild}) {

@@ -23,7 +23,7 @@ std::string plugin(const char* path, const std::string& options = "") {
   return std::string("plugin:") + path + (options.empty() ? "" : ":" + options);
 }
 
-Scene two_meshes() {
+Scene sphere_and_soup() {
   Scene s;
   s.add_mesh(generate_sphere(800));
   TriangleMesh soup = generate_soup(300, 7);
@@ -34,7 +34,7 @@ Scene two_meshes() {
 // The InputError text make_intersector (and build) throws for `spec`.
 std::string load_error(const std::string& spec, bool build = false) {
   try {
-    const Scene s = two_meshes();
+    const Scene s = sphere_and_soup();
     auto p = make_intersector(spec, BackendOptions{});
     if (build) p->build(s);
   } catch (const InputError& e) {
@@ -59,7 +59,7 @@ TEST(BackendSpec, ParsesTheThreeForms) {
 }
 
 TEST(PluginBackend, CorrectPluginAnswersAsEmbree) {
-  const Scene s = two_meshes();
+  const Scene s = sphere_and_soup();
   const std::vector<Ray> rays = test::random_rays(s.bounds(), 4000, 3);
   for (int threads : {1, 2}) {
     run_with_threads(threads, [&] {
@@ -91,7 +91,7 @@ TEST(PluginBackend, CorrectPluginAnswersAsEmbree) {
 }
 
 TEST(PluginBackend, UpdateWithAndWithoutThePluginsUpdate) {
-  Scene s = two_meshes();
+  Scene s = sphere_and_soup();
   const std::vector<Ray> rays = test::random_rays(s.bounds(), 500, 5);
   for (const char* path : {HPRT_TEST_PLUGIN_GOOD, HPRT_TEST_PLUGIN_OPTIONS_ECHO}) {
     auto p = make_intersector(plugin(path), BackendOptions{});
@@ -113,7 +113,7 @@ TEST(PluginBackend, UpdateWithAndWithoutThePluginsUpdate) {
 }
 
 TEST(PluginBackend, UpdateRebuildBuildsAndAKeptPointerSeesTheNewFrame) {
-  Scene s = two_meshes();
+  Scene s = sphere_and_soup();
   const std::vector<Ray> rays = test::random_rays(s.bounds(), 500, 5);
   // --update rebuild: build() every frame, even where the plugin has update().
   BackendOptions rebuild;
@@ -146,7 +146,7 @@ TEST(PluginBackend, UpdateRebuildBuildsAndAKeptPointerSeesTheNewFrame) {
 }
 
 TEST(PluginBackend, UnwrittenAnswersAreMalformedAndNamesPrintable) {
-  const Scene s = two_meshes();
+  const Scene s = sphere_and_soup();
   const std::vector<Ray> rays = test::random_rays(s.bounds(), 700, 3);
   auto p = make_intersector(plugin(HPRT_TEST_PLUGIN_SILENT), BackendOptions{});
   EXPECT_EQ(p->info().name, "plugin/si\\nlent\\x1b[0m");  // control characters escaped
@@ -194,7 +194,7 @@ TEST(PluginBackend, BrokenPluginsAreRefusedNamingFileAndProblem) {
 }
 
 TEST(PluginBackend, MalformedAnswersAreCountedAndMarked) {
-  const Scene s = two_meshes();
+  const Scene s = sphere_and_soup();
   const std::vector<Ray> rays = test::random_rays(s.bounds(), 2000, 9);
   auto p = make_intersector(plugin(HPRT_TEST_PLUGIN_MALFORMED), BackendOptions{});
   auto good = make_intersector(plugin(HPRT_TEST_PLUGIN_GOOD), BackendOptions{});

@@ -41,7 +41,7 @@ TEST(UpdatePolicy, AdaptiveRebuildsPastTheFactor) {
   }
 }
 
-Scene two_meshes() {
+Scene sphere_and_torus() {
   Scene s;
   s.add_mesh(generate_sphere(500));
   s.add_mesh(generate_torus(300));
@@ -49,7 +49,7 @@ Scene two_meshes() {
 }
 
 TEST(MeshRecord, FitsTheSceneItRecorded) {
-  Scene s = two_meshes();
+  Scene s = sphere_and_torus();
   MeshRecord r;
   r.record(s, make_prim_info(s));
   EXPECT_TRUE(r.fits(s));
@@ -60,7 +60,7 @@ TEST(MeshRecord, FitsTheSceneItRecorded) {
 }
 
 TEST(MeshRecord, ChangedCountsDoNotFit) {
-  Scene s = two_meshes();
+  Scene s = sphere_and_torus();
   MeshRecord r;
   r.record(s, make_prim_info(s));
   Scene fewer = s;
@@ -75,7 +75,7 @@ TEST(MeshRecord, ChangedCountsDoNotFit) {
 }
 
 TEST(MeshRecord, ALeftOutTriangleBecomingValidDoesNotFit) {
-  Scene s = two_meshes();
+  Scene s = sphere_and_torus();
   const Vec3f saved = s.meshes[1].positions[s.meshes[1].triangles[7][0]];
   s.meshes[1].positions[s.meshes[1].triangles[7][0]].y = std::numeric_limits<float>::quiet_NaN();
   const PrimInfo prims = make_prim_info(s);

@@ -38,12 +38,17 @@ void* counted_alloc(std::size_t n, std::size_t align) {
   return p;
 }
 }  // namespace
-void* operator new(std::size_t n) { return counted_alloc(n, 0); }
-void* operator new[](std::size_t n) { return counted_alloc(n, 0); }
-void* operator new(std::size_t n, std::align_val_t a) { return counted_alloc(n, size_t(a)); }
-void* operator new[](std::size_t n, std::align_val_t a) { return counted_alloc(n, size_t(a)); }
-// Not inlined: inlined into a `new T` / `delete` pair, g++ 12 at -O1 sees
-// free() of operator new's pointer and warns (-Wmismatched-new-delete).
+// Not inlined: inlined into a `new T` / `delete` pair, g++ 12 sees free() of
+// malloc's pointer, or operator delete of malloc's, and warns
+// (-Wmismatched-new-delete).
+[[gnu::noinline]] void* operator new(std::size_t n) { return counted_alloc(n, 0); }
+[[gnu::noinline]] void* operator new[](std::size_t n) { return counted_alloc(n, 0); }
+[[gnu::noinline]] void* operator new(std::size_t n, std::align_val_t a) {
+  return counted_alloc(n, size_t(a));
+}
+[[gnu::noinline]] void* operator new[](std::size_t n, std::align_val_t a) {
+  return counted_alloc(n, size_t(a));
+}
 [[gnu::noinline]] void operator delete(void* p) noexcept { std::free(p); }
 [[gnu::noinline]] void operator delete[](void* p) noexcept { std::free(p); }
 [[gnu::noinline]] void operator delete(void* p, std::size_t) noexcept { std::free(p); }

@@ -22,8 +22,6 @@
 namespace hprt {
 namespace {
 
-bool same_hit(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
-
 template <typename Test>
 Hit one_ray(const Bvh2& bvh, const Ray& r) {
   Hit h;
@@ -51,11 +49,11 @@ void expect_batch_equals_single_rays(const Bvh& bvh, TriangleTestKind kind,
   size_t hit_count = 0;
   for (size_t i = 0; i < rays.size(); ++i) {
     const Hit want = one_ray<Test>(bvh, rays[i]);
-    ASSERT_TRUE(same_hit(hits[i], want)) << "ray " << i;
+    ASSERT_TRUE(test::same_hit(hits[i], want)) << "ray " << i;
     EXPECT_EQ(occ[i], want.hit() ? 1 : 0) << "ray " << i;
     hit_count += want.hit();
   }
-  EXPECT_TRUE(same_hit(hits.back(), sentinel));
+  EXPECT_TRUE(test::same_hit(hits.back(), sentinel));
   EXPECT_EQ(occ.back(), 7);
   EXPECT_GT(hit_count, rays.size() / 10);  // the rays do meet the mesh
 }
@@ -173,7 +171,7 @@ TEST(TraceBatch, LargeTreeCountsListsAndLocatesInterleavedAsOneByOne) {
         want.resize(std::min<size_t>(want.size(), bound));
         ASSERT_EQ(lists.count(i), want.size()) << "ray " << i;
         for (size_t k = 0; k < want.size(); ++k)
-          ASSERT_TRUE(same_hit(lists.hits[lists.offsets[i] + k], want[k])) << "ray " << i;
+          ASSERT_TRUE(test::same_hit(lists.hits[lists.offsets[i] + k], want[k])) << "ray " << i;
       }
     }
     if (kind != TriangleTestKind::kWatertight) continue;  // inside reads exact vertices

@@ -31,8 +31,6 @@
 namespace hprt {
 namespace {
 
-bool same_hit(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
-
 // Random rays with some made invalid and some with bounded, shifted
 // intervals, so rays end after very different numbers of turns.
 std::vector<Ray> mixed_rays(const AABB& box, size_t n, uint64_t seed) {
@@ -89,8 +87,8 @@ void expect_same_as_alone(const WideBvh<N>& bvh, const Scene& scene, const std::
     const float* n = &normals[3 * i];
     const Hit column{t[i], uv[2 * i], uv[2 * i + 1], geom[i], prim[i]};
     if (!given[i]) {  // untouched
-      ASSERT_TRUE(same_hit(hits[i], sentinel)) << "ray " << i;
-      ASSERT_TRUE(same_hit(column, Hit{5.0f, 5.0f, 5.0f, 5, 5})) << "ray " << i;
+      ASSERT_TRUE(test::same_hit(hits[i], sentinel)) << "ray " << i;
+      ASSERT_TRUE(test::same_hit(column, Hit{5.0f, 5.0f, 5.0f, 5, 5})) << "ray " << i;
       ASSERT_EQ(occluded[i], 9) << "ray " << i;
       ASSERT_TRUE(n[0] == 5.0f && n[1] == 5.0f && n[2] == 5.0f) << "ray " << i;
       continue;
@@ -99,8 +97,8 @@ void expect_same_as_alone(const WideBvh<N>& bvh, const Scene& scene, const std::
     const bool valid = ray_is_valid(rays[i]);
     if (valid) traverse_wide<Test, false>(bvh, rays[i], want);
     const bool occ = valid && traverse_wide<Test, true>(bvh, rays[i], any);
-    ASSERT_TRUE(same_hit(hits[i], want)) << "ray " << i;
-    ASSERT_TRUE(same_hit(column, want)) << "ray " << i;
+    ASSERT_TRUE(test::same_hit(hits[i], want)) << "ray " << i;
+    ASSERT_TRUE(test::same_hit(column, want)) << "ray " << i;
     float expected[3] = {0.0f, 0.0f, 0.0f};
     if (want.hit()) triangle_normal(scene.meshes[want.geom_id], want.prim_id, expected);
     ASSERT_EQ(std::memcmp(n, expected, sizeof expected), 0)

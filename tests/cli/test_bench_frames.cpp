@@ -52,18 +52,18 @@ const std::vector<std::string> kColumns = {"case",
                                            "update_vs_embree_refit",
                                            "frame_vs_best_embree",
                                            "frame_vs_embree_matched"};
-const std::vector<std::string> kConfigs = {"bvh auto (default)",
-                                           "bvh rebuild",
-                                           "bvh refit",
-                                           "bvh adaptive",
-                                           "bvh adaptive mt",
-                                           "bvh rebuild morton",
-                                           "bvh adaptive morton",
-                                           "bvh adaptive morton mt",
-                                           "embree dynamic refit",
-                                           "embree dynamic low",
-                                           "embree dynamic refit robust",
-                                           "embree dynamic low robust"};
+const std::vector<std::string> kBenchFramesRows = {"bvh auto (default)",
+                                                   "bvh rebuild",
+                                                   "bvh refit",
+                                                   "bvh adaptive",
+                                                   "bvh adaptive mt",
+                                                   "bvh rebuild morton",
+                                                   "bvh adaptive morton",
+                                                   "bvh adaptive morton mt",
+                                                   "embree dynamic refit",
+                                                   "embree dynamic low",
+                                                   "embree dynamic refit robust",
+                                                   "embree dynamic low robust"};
 
 int run(const std::string& args, const fs::path& out) {
   const std::string cmd = std::string(HPRT_BINARY) + " " + args + " >" + (out / "stdout").string() +
@@ -156,7 +156,7 @@ TEST_F(BenchFrames, QuickRunWritesEveryColumnAndEmbreeRows) {
   }
   EXPECT_EQ(rows, 24);
   for (const char* c : {"wave", "explode"}) {
-    for (const std::string& k : kConfigs)
+    for (const std::string& k : kBenchFramesRows)
       EXPECT_TRUE(seen.count(std::string(c) + "/" + k)) << c << "/" << k;
   }
 

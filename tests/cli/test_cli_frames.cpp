@@ -62,7 +62,7 @@ class CliFrames : public test::CliTest {
   }
 };
 
-const std::vector<std::string> kConfigs = {
+const std::vector<std::string> kFrameConfigs = {
     "--backend bvh --update rebuild", "--backend bvh --update refit",
     "--backend bvh --update adaptive", "--backend embree --quality refit",
     "--backend embree --quality low"};
@@ -71,7 +71,7 @@ const std::vector<std::string> kConfigs = {
 // same bytes as one run, whatever the update strategy.
 
 TEST_F(CliFrames, TwoHalvesGiveTheSameFilesAsOneRun) {
-  for (const std::string& cfg : kConfigs) {
+  for (const std::string& cfg : kFrameConfigs) {
     ASSERT_EQ(render(cfg + " --frames 0:4 -o " + path("one_%04d.png")).code, 0) << cfg;
     ASSERT_EQ(render(cfg + " --frames 0:2 -o " + path("half_%04d.png")).code, 0) << cfg;
     ASSERT_EQ(render(cfg + " --frames 2:4 -o " + path("half_%04d.png")).code, 0) << cfg;
@@ -89,7 +89,7 @@ TEST_F(CliFrames, TwoHalvesGiveTheSameFilesAsOneRun) {
 // trees differ, so the closest hit may differ at exact ties (shared edges):
 // those need PSNR >= 60 dB. (Measured: identical files for every strategy.)
 TEST_F(CliFrames, FrameAfterAnimationEqualsFrameFromScratch) {
-  for (const std::string& cfg : kConfigs) {
+  for (const std::string& cfg : kFrameConfigs) {
     ASSERT_EQ(render(cfg + " --frames 0:6 -o " + path("seq_%d.png")).code, 0) << cfg;
     ASSERT_EQ(render(cfg + " --frames 5:6 -o " + path("solo_%d.png")).code, 0) << cfg;
     const std::string a = slurp(path("seq_5.png")), b = slurp(path("solo_5.png"));

@@ -13,6 +13,7 @@
 #include "core/error.h"
 #include "io/files/file_bytes.h"
 #include "tests/support/cli_test_support.h"
+#include "tests/support/io_test_files.h"
 
 namespace fs = std::filesystem;
 using hprt::InputError;
@@ -22,17 +23,8 @@ namespace {
 
 using hprt::test::slurp;
 
-struct TempDir {
-  fs::path dir;
-  TempDir() : dir(fs::temp_directory_path() / ("hprt_mesh_reader_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir);
-  }
-  ~TempDir() { fs::remove_all(dir); }
-  std::string path(const std::string& name) const { return (dir / name).string(); }
-  std::string write(const std::string& name, const std::string& bytes) const {
-    std::ofstream(dir / name, std::ios::binary) << bytes;
-    return path(name);
-  }
+struct GzTempDir : hprt::test::TempDir {
+  GzTempDir() : TempDir("hprt_mesh_reader") {}
   std::string write_gz(const std::string& name, const std::string& bytes) const {
     gzFile f = gzopen(path(name).c_str(), "wb");
     EXPECT_NE(f, nullptr);
@@ -43,7 +35,7 @@ struct TempDir {
 };
 
 // Expects load_mesh(path) to throw InputError "path: ...part...".
-void expect_error(const std::string& path, const std::string& part) {
+void expect_load_error(const std::string& path, const std::string& part) {
   try {
     hprt::load_mesh(path);
     ADD_FAILURE() << "no error for " << path;
@@ -60,7 +52,7 @@ const std::string kPly =
     "0 0 0\n1 0 0\n1 1 0\n0 1 0\n4 0 1 2 3\n";
 const std::string kObj = "v 0 0 0\nv 1 0 0\nv 1 1 0\nv 0 1 0\nf 1 2 3 4\n";
 
-void expect_same(const TriangleMesh& a, const TriangleMesh& b) {
+void expect_same_mesh(const TriangleMesh& a, const TriangleMesh& b) {
   EXPECT_EQ(a.positions, b.positions);
   EXPECT_EQ(a.triangles, b.triangles);
   EXPECT_EQ(a.normals, b.normals);
@@ -70,55 +62,56 @@ void expect_same(const TriangleMesh& a, const TriangleMesh& b) {
 }  // namespace
 
 TEST(MeshReader, DispatchesByExtensionCaseInsensitive) {
-  TempDir d;
+  GzTempDir d;
   const TriangleMesh ply = hprt::load_mesh(d.write("a.PLY", kPly));
   const TriangleMesh obj = hprt::load_mesh(d.write("b.Obj", kObj));
   EXPECT_EQ(ply.triangle_count(), 2u);
-  expect_same(ply, obj);
+  expect_same_mesh(ply, obj);
   EXPECT_EQ(ply.name, d.path("a.PLY"));
   EXPECT_EQ(obj.name, d.path("b.Obj"));
 }
 
 TEST(MeshReader, GzipPlyEqualsPlain) {
-  TempDir d;
-  expect_same(hprt::load_mesh(d.write_gz("a.ply.gz", kPly)),
-              hprt::load_mesh(d.write("a.ply", kPly)));
+  GzTempDir d;
+  expect_same_mesh(hprt::load_mesh(d.write_gz("a.ply.gz", kPly)),
+                   hprt::load_mesh(d.write("a.ply", kPly)));
   EXPECT_EQ(hprt::load_mesh(d.path("a.ply.gz")).name, d.path("a.ply.gz"));
 }
 
 TEST(MeshReader, GzipObjEqualsPlain) {
-  TempDir d;
-  expect_same(hprt::load_mesh(d.write_gz("a.OBJ.GZ", kObj)),
-              hprt::load_mesh(d.write("a.obj", kObj)));
+  GzTempDir d;
+  expect_same_mesh(hprt::load_mesh(d.write_gz("a.OBJ.GZ", kObj)),
+                   hprt::load_mesh(d.write("a.obj", kObj)));
 }
 
 TEST(MeshReader, ConcatenatedGzipMembersAreOneFile) {
-  TempDir d;
+  GzTempDir d;
   const std::string a = slurp(d.write_gz("a.gz", kPly.substr(0, 100)));
   const std::string b = slurp(d.write_gz("b.gz", kPly.substr(100)));
-  expect_same(hprt::load_mesh(d.write("ab.ply.gz", a + b)),
-              hprt::load_mesh(d.write("p.ply", kPly)));
+  expect_same_mesh(hprt::load_mesh(d.write("ab.ply.gz", a + b)),
+                   hprt::load_mesh(d.write("p.ply", kPly)));
 }
 
 TEST(MeshReader, TruncatedGzipIsError) {
-  TempDir d;
+  GzTempDir d;
   const std::string gz = slurp(d.write_gz("full.ply.gz", kPly));
-  expect_error(d.write("cut.ply.gz", gz.substr(0, gz.size() / 2)), "truncated gzip data");
-  expect_error(d.write("cut2.ply.gz", gz.substr(0, gz.size() - 4)), "gzip data");
+  expect_load_error(d.write("cut.ply.gz", gz.substr(0, gz.size() / 2)), "truncated gzip data");
+  expect_load_error(d.write("cut2.ply.gz", gz.substr(0, gz.size() - 4)), "gzip data");
 }
 
 TEST(MeshReader, CorruptGzipIsError) {
-  TempDir d;
+  GzTempDir d;
   std::string gz = slurp(d.write_gz("full.obj.gz", kObj));
   for (size_t i = 12; i < gz.size() - 8; ++i) gz[i] = static_cast<char>(gz[i] ^ 0x5a);
-  expect_error(d.write("bad.obj.gz", gz), "gzip data");
-  expect_error(d.write("plain.obj.gz", kObj), "not a gzip file");
-  expect_error(d.write("trail.obj.gz", slurp(d.path("full.obj.gz")) + "junk"), "trailing garbage");
+  expect_load_error(d.write("bad.obj.gz", gz), "gzip data");
+  expect_load_error(d.write("plain.obj.gz", kObj), "not a gzip file");
+  expect_load_error(d.write("trail.obj.gz", slurp(d.path("full.obj.gz")) + "junk"),
+                    "trailing garbage");
 }
 
 TEST(MeshReader, DecompressionLimitIsEnforced) {
   const std::string big(1 << 20, 'v');
-  TempDir d;
+  GzTempDir d;
   const std::string gz = slurp(d.write_gz("bomb.gz", big));
   EXPECT_THROW(hprt::gunzip_bytes("bomb.gz", gz, 4096), InputError);
   EXPECT_EQ(hprt::gunzip_bytes("bomb.gz", gz, big.size()).size(), big.size());
@@ -136,34 +129,34 @@ TEST(MeshReader, MissingFileIsError) {
 }
 
 TEST(MeshReader, EmptyFileIsError) {
-  TempDir d;
-  expect_error(d.write("e.ply", ""), "empty file");
-  expect_error(d.write("e.obj", ""), "empty file");
-  expect_error(d.write_gz("e.obj.gz", ""), "empty file");
+  GzTempDir d;
+  expect_load_error(d.write("e.ply", ""), "empty file");
+  expect_load_error(d.write("e.obj", ""), "empty file");
+  expect_load_error(d.write_gz("e.obj.gz", ""), "empty file");
 }
 
 TEST(MeshReader, UnknownExtensionIsError) {
-  TempDir d;
-  expect_error(d.write("a.stl", kPly), "unknown mesh format");
-  expect_error(d.write("noext", kPly), "unknown mesh format");
-  expect_error(d.write("a.gz", kPly), "unknown mesh format");
+  GzTempDir d;
+  expect_load_error(d.write("a.stl", kPly), "unknown mesh format");
+  expect_load_error(d.write("noext", kPly), "unknown mesh format");
+  expect_load_error(d.write("a.gz", kPly), "unknown mesh format");
 }
 
 TEST(MeshReader, BinaryJunkNamedObjIsError) {
-  TempDir d;
+  GzTempDir d;
   std::string junk;
   for (int i = 0; i < 4096; ++i) junk += static_cast<char>((i * 131 + 7) & 0xff);
-  expect_error(d.write("junk.obj", junk), "binary data");
-  expect_error(d.write("junk.ply", junk), "not a PLY file");
+  expect_load_error(d.write("junk.obj", junk), "binary data");
+  expect_load_error(d.write("junk.ply", junk), "not a PLY file");
 }
 
 TEST(MeshReader, MeshWithoutTrianglesIsError) {
-  TempDir d;
-  expect_error(d.write("points.obj", "v 0 0 0\nv 1 1 1\n"), "no triangles");
+  GzTempDir d;
+  expect_load_error(d.write("points.obj", "v 0 0 0\nv 1 1 1\n"), "no triangles");
 }
 
 TEST(MeshReader, DirectoryIsError) {
-  TempDir d;
+  GzTempDir d;
   fs::create_directories(d.dir / "dir.ply");
-  expect_error(d.path("dir.ply"), "cannot open");
+  expect_load_error(d.path("dir.ply"), "cannot open");
 }

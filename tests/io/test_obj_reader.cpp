@@ -11,6 +11,7 @@
 
 #include "core/error.h"
 #include "io/mesh/mesh_reader.h"
+#include "tests/support/io_test_files.h"
 
 namespace fs = std::filesystem;
 using hprt::InputError;
@@ -20,13 +21,7 @@ using hprt::Vec3u;
 
 namespace {
 
-const std::string kAssimp = "/usr/share/assimp/models/";
-
-#define SKIP_IF_MISSING(p) \
-  if (!fs::exists(p))      \
-  GTEST_SKIP() << (p) << " missing: install assimp-testmodels (scripts/setup.sh)"
-
-void expect_error(const std::string& text, const std::string& part) {
+void expect_obj_error(const std::string& text, const std::string& part) {
   const std::string path = "m.obj";
   try {
     hprt::read_obj(path, text);
@@ -38,36 +33,23 @@ void expect_error(const std::string& text, const std::string& part) {
   }
 }
 
-struct TempDir {
-  fs::path dir;
-  explicit TempDir(const std::string& name)
-      : dir(fs::temp_directory_path() / (name + "_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir);
-  }
-  ~TempDir() { fs::remove_all(dir); }
-  std::string write(const std::string& name, const std::string& text) const {
-    std::ofstream(dir / name, std::ios::binary) << text;
-    return (dir / name).string();
-  }
-};
-
 }  // namespace
 
 TEST(ObjReader, AssimpBoxQuads) {
-  SKIP_IF_MISSING(kAssimp + "OBJ/box.obj");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "OBJ/box.obj");
   // 8 `v` lines, 6 `f` lines of 4 vertices -> 12 triangles.
-  const TriangleMesh m = hprt::load_mesh(kAssimp + "OBJ/box.obj");
+  const TriangleMesh m = hprt::load_mesh(hprt::test::kAssimpModels + "OBJ/box.obj");
   EXPECT_EQ(m.vertex_count(), 8u);
   EXPECT_EQ(m.triangle_count(), 12u);
   EXPECT_EQ(m.positions[0], Vec3f(-0.5f, -0.5f, 0.5f));
 }
 
 TEST(ObjReader, AssimpSpiderGroupsMaterialsNormals) {
-  SKIP_IF_MISSING(kAssimp + "OBJ/spider.obj");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "OBJ/spider.obj");
   // 762 `v`, 747 `vn`, 1368 triangular `f` lines in 19 groups. Triangles per
   // material (awk over usemtl/f): BeinTex 952, Skin 260, HLeibTex 80, ...;
   // BeinTex has Kd 0.8 0.8 0.8, Ks 0, Ns 0.
-  const TriangleMesh m = hprt::load_mesh(kAssimp + "OBJ/spider.obj");
+  const TriangleMesh m = hprt::load_mesh(hprt::test::kAssimpModels + "OBJ/spider.obj");
   EXPECT_EQ(m.vertex_count(), 762u);
   EXPECT_EQ(m.triangle_count(), 1368u);
   EXPECT_EQ(m.normals.size(), 762u);
@@ -77,19 +59,19 @@ TEST(ObjReader, AssimpSpiderGroupsMaterialsNormals) {
 }
 
 TEST(ObjReader, AssimpWuson) {
-  SKIP_IF_MISSING(kAssimp + "OBJ/WusonOBJ.obj");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "OBJ/WusonOBJ.obj");
   // 2117 `v`, 2076 `vn`, 3732 triangular `f` lines.
-  const TriangleMesh m = hprt::load_mesh(kAssimp + "OBJ/WusonOBJ.obj");
+  const TriangleMesh m = hprt::load_mesh(hprt::test::kAssimpModels + "OBJ/WusonOBJ.obj");
   EXPECT_EQ(m.vertex_count(), 2117u);
   EXPECT_EQ(m.triangle_count(), 3732u);
   EXPECT_EQ(m.normals.size(), 2117u);
 }
 
 TEST(ObjReader, AssimpConcavePolygonFan) {
-  SKIP_IF_MISSING(kAssimp + "OBJ/concave_polygon.obj");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "OBJ/concave_polygon.obj");
   // One `f` line with 66 vertex references -> 64 fan triangles; material
   // "test" has Kd 0.141176 0.184314 0.411765 and Ns 400.
-  const TriangleMesh m = hprt::load_mesh(kAssimp + "OBJ/concave_polygon.obj");
+  const TriangleMesh m = hprt::load_mesh(hprt::test::kAssimpModels + "OBJ/concave_polygon.obj");
   EXPECT_EQ(m.vertex_count(), 64u);
   ASSERT_EQ(m.triangle_count(), 64u);
   for (size_t i = 0; i < m.triangle_count(); ++i) {
@@ -103,14 +85,14 @@ TEST(ObjReader, AssimpConcavePolygonFan) {
 }
 
 TEST(ObjReader, AssimpInvalidFilesAreErrors) {
-  SKIP_IF_MISSING(kAssimp + "invalid/malformed.obj");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "invalid/malformed.obj");
   // malformed.obj: index 0 and 12 of 8; malformed2.obj: a bare "f" line.
-  EXPECT_THROW(hprt::load_mesh(kAssimp + "invalid/malformed.obj"), InputError);
-  EXPECT_THROW(hprt::load_mesh(kAssimp + "invalid/malformed2.obj"), InputError);
-  EXPECT_THROW(hprt::load_mesh(kAssimp + "invalid/empty.obj"), InputError);
+  EXPECT_THROW(hprt::load_mesh(hprt::test::kAssimpModels + "invalid/malformed.obj"), InputError);
+  EXPECT_THROW(hprt::load_mesh(hprt::test::kAssimpModels + "invalid/malformed2.obj"), InputError);
+  EXPECT_THROW(hprt::load_mesh(hprt::test::kAssimpModels + "invalid/empty.obj"), InputError);
   // "3.1+e2" is not a number (line 11); UTF-16 text is binary to us.
-  EXPECT_THROW(hprt::load_mesh(kAssimp + "OBJ/number_formats.obj"), InputError);
-  EXPECT_THROW(hprt::load_mesh(kAssimp + "OBJ/box_UTF16BE.obj"), InputError);
+  EXPECT_THROW(hprt::load_mesh(hprt::test::kAssimpModels + "OBJ/number_formats.obj"), InputError);
+  EXPECT_THROW(hprt::load_mesh(hprt::test::kAssimpModels + "OBJ/box_UTF16BE.obj"), InputError);
 }
 
 TEST(ObjReader, ObjectsAndGroupsMergeInFileOrder) {
@@ -164,7 +146,7 @@ TEST(ObjReader, NormalsDroppedWhenSomeFaceVerticesLackThem) {
 }
 
 TEST(ObjReader, MostUsedMaterialWins) {
-  TempDir dir("hprt_obj_mtl");
+  hprt::test::TempDir dir("hprt_obj_mtl");
   dir.write("m.mtl",
             "newmtl a\nKd 1 0 0\nKs 0.5 0.5 0.5\nNs 10\n"
             "newmtl b\nKd 0 1 0\nKs 0.25 0.25 0.25\nNs 77\n");
@@ -197,31 +179,31 @@ TEST(ObjReader, NonFiniteVerticesAreData) {
 }
 
 TEST(ObjReader, GarbageFaceLineNamesLine) {
-  expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 x\n", "line 5: bad face vertex 'x'");
-  expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3.5\n", "line 4: bad face vertex '3.5'");
-  expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "line 4: face with 2 vertices");
-  expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", "line 4: bad face vertex");
-  expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4: face vertex '0' has index 0");
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\n\nf 1 2 x\n", "line 5: bad face vertex 'x'");
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3.5\n", "line 4: bad face vertex '3.5'");
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2\n", "line 4: face with 2 vertices");
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1/1/1/1 2 3\n", "line 4: bad face vertex");
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 0 1 2\n", "line 4: face vertex '0' has index 0");
 }
 
 TEST(ObjReader, GarbageNumbersAndStatementsNameLine) {
-  expect_error("v 0 0 0\nv 1 zero 0\n", "line 2: 'zero' is not a number");
-  expect_error("v 0 0\n", "line 1: v needs 3 to 7 numbers, found 2");
-  expect_error("vn 0 0 1 1\n", "line 1: vn needs 3 numbers, found 4");
-  expect_error("v 0 0 0\nfoo bar\n", "line 2: unknown OBJ statement 'foo'");
+  expect_obj_error("v 0 0 0\nv 1 zero 0\n", "line 2: 'zero' is not a number");
+  expect_obj_error("v 0 0\n", "line 1: v needs 3 to 7 numbers, found 2");
+  expect_obj_error("vn 0 0 1 1\n", "line 1: vn needs 3 numbers, found 4");
+  expect_obj_error("v 0 0 0\nfoo bar\n", "line 2: unknown OBJ statement 'foo'");
 }
 
 TEST(ObjReader, IndexOutOfRangeNamesLine) {
-  expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\nf 1 2 3\n",
-               "line 5: face references vertex 9 of 3");
-  expect_error("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n",
-               "line 3: face references vertex -3 (relative) with only 2 defined before it");
-  expect_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n",
-               "line 5: face references normal 2 of 1");
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 2 9\nf 1 2 3\n",
+                   "line 5: face references vertex 9 of 3");
+  expect_obj_error("v 0 0 0\nv 1 0 0\nf -1 -2 -3\nv 0 1 0\n",
+                   "line 3: face references vertex -3 (relative) with only 2 defined before it");
+  expect_obj_error("v 0 0 0\nv 1 0 0\nv 0 1 0\nvn 0 0 1\nf 1//1 2//2 3//1\n",
+                   "line 5: face references normal 2 of 1");
 }
 
 TEST(ObjReader, BinaryJunkIsError) {
   std::string junk = "v 0 0 0\n";
   for (int i = 0; i < 256; ++i) junk += static_cast<char>((i * 37 + 11) & 0xff);
-  expect_error(junk, "line 2: binary data");
+  expect_obj_error(junk, "line 2: binary data");
 }

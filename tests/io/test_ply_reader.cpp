@@ -14,6 +14,7 @@
 
 #include "core/error.h"
 #include "io/mesh/mesh_reader.h"
+#include "tests/support/io_test_files.h"
 
 namespace fs = std::filesystem;
 using hprt::InputError;
@@ -23,15 +24,9 @@ using hprt::Vec3u;
 
 namespace {
 
-const std::string kAssimp = "/usr/share/assimp/models/";
-
-#define SKIP_IF_MISSING(p) \
-  if (!fs::exists(p))      \
-  GTEST_SKIP() << (p) << " missing: install assimp-testmodels (scripts/setup.sh)"
-
 // Expects read_ply to throw InputError whose message starts with the path and
 // contains `part`.
-void expect_error(const std::string& bytes, const std::string& part) {
+void expect_ply_error(const std::string& bytes, const std::string& part) {
   const std::string path = "t.ply";
   try {
     hprt::read_ply(path, bytes);
@@ -117,7 +112,7 @@ std::string odd_binary(bool big) {
   return b.s;
 }
 
-void expect_same(const TriangleMesh& a, const TriangleMesh& b) {
+void expect_same_ply_mesh(const TriangleMesh& a, const TriangleMesh& b) {
   ASSERT_EQ(a.positions.size(), b.positions.size());
   for (size_t i = 0; i < a.positions.size(); ++i) EXPECT_EQ(a.positions[i], b.positions[i]) << i;
   EXPECT_EQ(a.normals, b.normals);
@@ -127,24 +122,24 @@ void expect_same(const TriangleMesh& a, const TriangleMesh& b) {
 }  // namespace
 
 TEST(PlyReader, AssimpCubeAsciiQuadsMatchBinaryTriangles) {
-  SKIP_IF_MISSING(kAssimp + "PLY/cube.ply");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "PLY/cube.ply");
   // cube.ply: 8 vertices, 6 quads (header "element face 6", each row "4 a b c d")
   // -> 12 fan triangles; cube_binary.ply stores those same 12 triangles.
-  const TriangleMesh ascii = hprt::load_mesh(kAssimp + "PLY/cube.ply");
-  const TriangleMesh binary = hprt::load_mesh(kAssimp + "PLY/cube_binary.ply");
+  const TriangleMesh ascii = hprt::load_mesh(hprt::test::kAssimpModels + "PLY/cube.ply");
+  const TriangleMesh binary = hprt::load_mesh(hprt::test::kAssimpModels + "PLY/cube_binary.ply");
   EXPECT_EQ(ascii.vertex_count(), 8u);
   EXPECT_EQ(ascii.triangle_count(), 12u);
   EXPECT_EQ(ascii.triangles[0], (Vec3u{{0, 1, 2}}));  // fan of "4 0 1 2 3"
   EXPECT_EQ(ascii.triangles[1], (Vec3u{{0, 2, 3}}));
-  expect_same(ascii, binary);
-  EXPECT_EQ(ascii.name, kAssimp + "PLY/cube.ply");
+  expect_same_ply_mesh(ascii, binary);
+  EXPECT_EQ(ascii.name, hprt::test::kAssimpModels + "PLY/cube.ply");
 }
 
 TEST(PlyReader, AssimpWusonSkipsTexcoordsKeepsNormals) {
-  SKIP_IF_MISSING(kAssimp + "PLY/Wuson.ply");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "PLY/Wuson.ply");
   // Header: element vertex 11184 (x y z nx ny nz s t), element face 3732, and
   // every face row starts with 3. It also has a bare "Created by ..." line.
-  const TriangleMesh m = hprt::load_mesh(kAssimp + "PLY/Wuson.ply");
+  const TriangleMesh m = hprt::load_mesh(hprt::test::kAssimpModels + "PLY/Wuson.ply");
   EXPECT_EQ(m.vertex_count(), 11184u);
   EXPECT_EQ(m.triangle_count(), 3732u);
   ASSERT_EQ(m.normals.size(), 11184u);
@@ -154,9 +149,9 @@ TEST(PlyReader, AssimpWusonSkipsTexcoordsKeepsNormals) {
 }
 
 TEST(PlyReader, AssimpFloatColorSkipsColors) {
-  SKIP_IF_MISSING(kAssimp + "PLY/float-color.ply");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "PLY/float-color.ply");
   // 3 vertices with float red/green/blue/alpha and one face "3 0 1 2".
-  const TriangleMesh m = hprt::load_mesh(kAssimp + "PLY/float-color.ply");
+  const TriangleMesh m = hprt::load_mesh(hprt::test::kAssimpModels + "PLY/float-color.ply");
   ASSERT_EQ(m.vertex_count(), 3u);
   EXPECT_EQ(m.positions[2], Vec3f(200, 200, 0));
   ASSERT_EQ(m.triangle_count(), 1u);
@@ -165,17 +160,17 @@ TEST(PlyReader, AssimpFloatColorSkipsColors) {
 }
 
 TEST(PlyReader, AssimpFilesWithoutFacesAreErrors) {
-  SKIP_IF_MISSING(kAssimp + "PLY/points.ply");
+  HPRT_SKIP_IF_MISSING(hprt::test::kAssimpModels + "PLY/points.ply");
   for (const char* f :
        {"PLY/points.ply", "PLY/issue623.ply", "PLY/pond.0.ply", "invalid/empty.ply"})
-    EXPECT_THROW(hprt::load_mesh(kAssimp + f), InputError) << f;
+    EXPECT_THROW(hprt::load_mesh(hprt::test::kAssimpModels + f), InputError) << f;
 }
 
 TEST(PlyReader, OddLayoutSameMeshInAllThreeEncodings) {
   const TriangleMesh want = expected_mesh();
-  expect_same(hprt::read_ply("a.ply", odd_ascii()), want);
-  expect_same(hprt::read_ply("le.ply", odd_binary(false)), want);
-  expect_same(hprt::read_ply("be.ply", odd_binary(true)), want);
+  expect_same_ply_mesh(hprt::read_ply("a.ply", odd_ascii()), want);
+  expect_same_ply_mesh(hprt::read_ply("le.ply", odd_binary(false)), want);
+  expect_same_ply_mesh(hprt::read_ply("be.ply", odd_binary(true)), want);
 }
 
 TEST(PlyReader, FanTriangulatesPolygonsInOrder) {
@@ -239,12 +234,12 @@ TEST(PlyReader, HugeVertexCountFailsBeforeAllocating) {
       "property float y\nproperty float z\nelement face 1\n"
       "property list uchar int vertex_indices\nend_header\n";
   s += std::string(200 - s.size(), '\0');
-  expect_error(s, "header declares 4000000000 vertex records");
+  expect_ply_error(s, "header declares 4000000000 vertex records");
   std::string a =
       "ply\nformat ascii 1.0\nelement vertex 4000000000\nproperty float x\nproperty float y\n"
       "property float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n0 0 "
       "0\n";
-  expect_error(a, "header declares 4000000000 vertex records");
+  expect_ply_error(a, "header declares 4000000000 vertex records");
 }
 
 TEST(PlyReader, HugeFaceCountFailsBeforeAllocating) {
@@ -254,7 +249,7 @@ TEST(PlyReader, HugeFaceCountFailsBeforeAllocating) {
       "property float z\nelement face 18446744073709551615\n"
       "property list uchar int vertex_indices\nend_header\n";
   for (int i = 0; i < 9; ++i) b.put<float>(1.0f);
-  expect_error(b.s, "header declares 18446744073709551615 face records");
+  expect_ply_error(b.s, "header declares 18446744073709551615 face records");
 }
 
 TEST(PlyReader, NegativeListCountIsError) {
@@ -265,12 +260,12 @@ TEST(PlyReader, NegativeListCountIsError) {
       "property list int int vertex_indices\nend_header\n";
   for (int i = 0; i < 9; ++i) b.put<float>(1.0f);
   b.put<int32_t>(-5).put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);
-  expect_error(b.s, "face 0: negative list count -5");
+  expect_ply_error(b.s, "face 0: negative list count -5");
   std::string a =
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
       "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n"
       "0 0 0\n0 0 0\n0 0 0\n-3 0 1 2\n";
-  expect_error(a, "negative list count -3");
+  expect_ply_error(a, "negative list count -3");
 }
 
 TEST(PlyReader, AbsurdListCountIsError) {
@@ -281,7 +276,7 @@ TEST(PlyReader, AbsurdListCountIsError) {
       "property list uint int vertex_indices\nend_header\n";
   for (int i = 0; i < 9; ++i) b.put<float>(1.0f);
   b.put<uint32_t>(4000000000u).put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);
-  expect_error(b.s, "list count 4000000000 exceeds the remaining data");
+  expect_ply_error(b.s, "list count 4000000000 exceeds the remaining data");
 }
 
 TEST(PlyReader, ListCountInOtherElementIsChecked) {
@@ -291,7 +286,7 @@ TEST(PlyReader, ListCountInOtherElementIsChecked) {
       "property float y\nproperty float z\nproperty list ushort double junk\n"
       "element face 0\nproperty list uchar int vertex_indices\nend_header\n";
   b.put<float>(0).put<float>(0).put<float>(0).put<uint16_t>(60000);
-  expect_error(b.s, "vertex 0: list count 60000 exceeds the remaining data");
+  expect_ply_error(b.s, "vertex 0: list count 60000 exceeds the remaining data");
 }
 
 TEST(PlyReader, TruncatedBinaryIsError) {
@@ -303,31 +298,31 @@ TEST(PlyReader, TruncatedBinaryIsError) {
   for (int i = 0; i < 9; ++i) b.put<float>(1.0f);
   b.put<uint8_t>(3).put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);
   b.put<uint8_t>(3).put<int32_t>(0);  // second face cut short
-  expect_error(b.s, "face 1: truncated data");
+  expect_ply_error(b.s, "face 1: truncated data");
   // Cut inside the vertex data: the size check fires first.
-  expect_error(odd_binary(false).substr(0, odd_header("binary_little_endian").size() + 50),
-               "vertex records");
+  expect_ply_error(odd_binary(false).substr(0, odd_header("binary_little_endian").size() + 50),
+                   "vertex records");
 }
 
 TEST(PlyReader, TruncatedAsciiIsError) {
   std::string a = odd_ascii();
-  expect_error(a.substr(0, a.size() - 4), "face 1: truncated data");  // tag 100 cut off
-  expect_error(a.substr(0, a.size() - 8), "face 1: list count 3 exceeds the remaining data");
+  expect_ply_error(a.substr(0, a.size() - 4), "face 1: truncated data");  // tag 100 cut off
+  expect_ply_error(a.substr(0, a.size() - 8), "face 1: list count 3 exceeds the remaining data");
 }
 
 TEST(PlyReader, UnknownPropertyTypeIsError) {
-  expect_error("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n0\n",
-               "unknown property type 'float128'");
-  expect_error(
+  expect_ply_error("ply\nformat ascii 1.0\nelement vertex 1\nproperty float128 x\nend_header\n0\n",
+                   "unknown property type 'float128'");
+  expect_ply_error(
       "ply\nformat ascii 1.0\nelement face 1\nproperty list uchar int24 vertex_indices\n"
       "end_header\n0\n",
       "unknown property type 'int24'");
 }
 
 TEST(PlyReader, UnknownFormatIsError) {
-  expect_error("ply\nformat binary_middle_endian 1.0\nelement vertex 0\nend_header\n",
-               "unknown format 'binary_middle_endian'");
-  expect_error("ply\nelement vertex 0\nend_header\n", "no format line");
+  expect_ply_error("ply\nformat binary_middle_endian 1.0\nelement vertex 0\nend_header\n",
+                   "unknown format 'binary_middle_endian'");
+  expect_ply_error("ply\nelement vertex 0\nend_header\n", "no format line");
 }
 
 TEST(PlyReader, IndexOutOfRangeNamesFaceAndVertex) {
@@ -335,7 +330,7 @@ TEST(PlyReader, IndexOutOfRangeNamesFaceAndVertex) {
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
       "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
       "0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n3 0 900 1\n";
-  expect_error(a, "face 1: references vertex 900 of 3");
+  expect_ply_error(a, "face 1: references vertex 900 of 3");
   Bytes b;
   b.s =
       "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
@@ -343,38 +338,38 @@ TEST(PlyReader, IndexOutOfRangeNamesFaceAndVertex) {
       "property list uchar int vertex_indices\nend_header\n";
   for (int i = 0; i < 9; ++i) b.put<float>(1.0f);
   b.put<uint8_t>(3).put<int32_t>(0).put<int32_t>(-7).put<int32_t>(2);
-  expect_error(b.s, "face 0: references vertex -7 of 3");
+  expect_ply_error(b.s, "face 0: references vertex -7 of 3");
 }
 
 TEST(PlyReader, NotAPlyFileIsError) {
-  expect_error("", "not a PLY file");
-  expect_error("solid cube\nfacet normal 0 0 1\n", "not a PLY file");
-  expect_error(std::string("ply\n\x01\x02\x03\xff", 8), "binary data inside the header");
-  expect_error("ply\nformat ascii 1.0\nelement vertex 1\n", "no end_header");
+  expect_ply_error("", "not a PLY file");
+  expect_ply_error("solid cube\nfacet normal 0 0 1\n", "not a PLY file");
+  expect_ply_error(std::string("ply\n\x01\x02\x03\xff", 8), "binary data inside the header");
+  expect_ply_error("ply\nformat ascii 1.0\nelement vertex 1\n", "no end_header");
 }
 
 TEST(PlyReader, MissingCoordinatesOrVertexElementAreErrors) {
-  expect_error(
+  expect_ply_error(
       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
       "element face 0\nproperty list uchar int vertex_indices\nend_header\n0 0\n",
       "vertex element has no z property");
-  expect_error(
+  expect_ply_error(
       "ply\nformat ascii 1.0\nelement face 0\nproperty list uchar int vertex_indices\n"
       "end_header\n",
       "no vertex element");
-  expect_error(
+  expect_ply_error(
       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
       "property float z\nelement face 1\nproperty uchar flags\nend_header\n0 0 0\n1\n",
       "face 0: element has no vertex_indices list property");
 }
 
 TEST(PlyReader, GarbageAsciiNumberIsError) {
-  expect_error(
+  expect_ply_error(
       "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\n"
       "property float z\nelement face 0\nproperty list uchar int vertex_indices\nend_header\n"
       "0 0x1 0\n",
       "vertex 0: '0x1' is not a number");
-  expect_error(
+  expect_ply_error(
       "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
       "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n"
       "0 0 0\n0 0 0\n0 0 0\n3 0 1.5 2\n",

@@ -14,6 +14,7 @@
 #include "core/error.h"
 #include "io/mesh/mesh_reader.h"
 #include "tests/support/cli_test_support.h"
+#include "tests/support/io_test_files.h"
 
 namespace fs = std::filesystem;
 using hprt::PlyFormat;
@@ -24,15 +25,6 @@ using hprt::Vec3u;
 namespace {
 
 using hprt::test::slurp;
-
-struct TempDir {
-  fs::path dir;
-  TempDir() : dir(fs::temp_directory_path() / ("hprt_ply_writer_" + std::to_string(::getpid()))) {
-    fs::create_directories(dir);
-  }
-  ~TempDir() { fs::remove_all(dir); }
-  std::string path(const std::string& name) const { return (dir / name).string(); }
-};
 
 // A small grid with awkward floats (non-representable decimals, tiny, huge, NaN).
 TriangleMesh grid(bool with_normals) {
@@ -67,7 +59,7 @@ void expect_bits_equal(const std::vector<Vec3f>& a, const std::vector<Vec3f>& b)
 }  // namespace
 
 TEST(PlyWriter, RoundTripsExactlyInAllEncodings) {
-  TempDir d;
+  const hprt::test::TempDir d("hprt_ply_writer");
   for (bool normals : {false, true}) {
     const TriangleMesh m = grid(normals);
     for (PlyFormat f :
@@ -83,7 +75,7 @@ TEST(PlyWriter, RoundTripsExactlyInAllEncodings) {
 }
 
 TEST(PlyWriter, HeaderAndBinaryLayout) {
-  TempDir d;
+  const hprt::test::TempDir d("hprt_ply_writer");
   const TriangleMesh m = grid(true);
   const std::string p = d.path("be.ply");
   hprt::write_ply(m, p, PlyFormat::kBinaryBigEndian);
@@ -107,7 +99,7 @@ TEST(PlyWriter, HeaderAndBinaryLayout) {
 }
 
 TEST(PlyWriter, NoNormalPropertiesWithoutNormals) {
-  TempDir d;
+  const hprt::test::TempDir d("hprt_ply_writer");
   const std::string p = d.path("a.ply");
   hprt::write_ply(grid(false), p, PlyFormat::kAscii);
   const std::string text = slurp(p);
@@ -118,7 +110,7 @@ TEST(PlyWriter, NoNormalPropertiesWithoutNormals) {
 
 TEST(PlyWriter, UnwritableDirectoryIsErrorAndLeavesNothing) {
   EXPECT_THROW(hprt::write_ply(grid(false), "/nonexistent_hprt_dir/x.ply"), hprt::InputError);
-  TempDir d;
+  const hprt::test::TempDir d("hprt_ply_writer");
   hprt::write_ply(grid(false), d.path("only.ply"));
   for (const auto& e : fs::directory_iterator(d.dir)) EXPECT_EQ(e.path().filename(), "only.ply");
 }

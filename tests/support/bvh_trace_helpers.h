@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -15,6 +16,18 @@
 #include "tests/support/bvh_test_meshes.h"
 
 namespace hprt::test {
+
+// Bit-identical answers (t, u, v and ids): what two traversals of one ray
+// must agree on.
+inline constexpr float kInf = std::numeric_limits<float>::infinity();
+
+inline bool same_hit(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
+
+inline Scene scene_of(std::vector<TriangleMesh> meshes) {
+  Scene s;
+  for (auto& m : meshes) s.add_mesh(std::move(m));
+  return s;
+}
 
 struct BuiltBvh {
   Scene scene;

@@ -13,6 +13,7 @@
 #include "core/parallel.h"
 #include "io/scene/scene_reader.h"
 #include "meshgen/mesh_generators.h"
+#include "tests/support/bvh_trace_helpers.h"
 #include "validators/ray_sets.h"
 
 namespace hprt {
@@ -23,13 +24,13 @@ namespace {
 #if defined(__SANITIZE_THREAD__)
 constexpr int kCallers = 4;
 constexpr int kRepeats = 2;
-constexpr size_t kRays = 200;
+constexpr size_t kRaysPerBatch = 200;
 constexpr int kArenas = 2;
 constexpr size_t kSphereTris = 1500, kSoupTris = 1000;
 #else
-constexpr int kCallers = 8;     // std::threads calling the one intersector together
-constexpr int kRepeats = 3;     // calls per thread, so calls overlap
-constexpr size_t kRays = 3000;  // per batch
+constexpr int kCallers = 8;             // std::threads calling the one intersector together
+constexpr int kRepeats = 3;             // calls per thread, so calls overlap
+constexpr size_t kRaysPerBatch = 3000;  // per batch
 constexpr int kArenas = 4;
 constexpr size_t kSphereTris = 6000, kSoupTris = 4000;
 #endif
@@ -43,8 +44,6 @@ Scene make_scene() {
   return s;
 }
 
-bool same_hit(const Hit& a, const Hit& b) { return std::memcmp(&a, &b, sizeof(Hit)) == 0; }
-
 void check_concurrent_answers(const std::string& backend_name) {
   const Scene scene = make_scene();
   BackendOptions o;
@@ -57,7 +56,7 @@ void check_concurrent_answers(const std::string& backend_name) {
   const RayKind kinds[] = {RayKind::kPrimary, RayKind::kRandom, RayKind::kGrazing, RayKind::kNan};
   std::vector<std::vector<Ray>> batches(kCallers);
   for (int t = 0; t < kCallers; ++t)
-    batches[t] = make_rays(scene, kinds[t % 4], kRays, 100 + t, isect.get());
+    batches[t] = make_rays(scene, kinds[t % 4], kRaysPerBatch, 100 + t, isect.get());
 
   // Reference: one thread, one call per batch.
   std::vector<std::vector<Hit>> ref_hits(kCallers);
@@ -70,7 +69,7 @@ void check_concurrent_answers(const std::string& backend_name) {
     isect->occluded(batches[t], ref_occ[t]);
     for (const Hit& h : ref_hits[t]) ref_hit_count += h.hit() ? 1 : 0;
   }
-  ASSERT_GT(ref_hit_count, size_t(kRays) / 2);  // the batches really hit something
+  ASSERT_GT(ref_hit_count, size_t(kRaysPerBatch) / 2);  // the batches really hit something
 
   // Many std::threads on the same const intersector at once.
   std::vector<std::vector<Hit>> hits(kCallers * kRepeats);
@@ -100,7 +99,7 @@ void check_concurrent_answers(const std::string& backend_name) {
       const int slot = t * kRepeats + r;
       size_t bad_hits = 0, bad_occ = 0;
       for (size_t i = 0; i < batches[t].size(); ++i) {
-        bad_hits += same_hit(hits[slot][i], ref_hits[t][i]) ? 0 : 1;
+        bad_hits += test::same_hit(hits[slot][i], ref_hits[t][i]) ? 0 : 1;
         bad_occ += occ[slot][i] == ref_occ[t][i] ? 0 : 1;
       }
       EXPECT_EQ(bad_hits, 0u) << backend_name << " caller " << t << " repeat " << r;
@@ -118,7 +117,7 @@ TEST(Concurrency, BvhCallersInSeparateArenas) {
   o.threads = 2;
   std::unique_ptr<Intersector> isect = make_intersector("bvh", o);
   isect->build(scene);
-  const std::vector<Ray> rays = make_rays(scene, RayKind::kRandom, kRays, 7);
+  const std::vector<Ray> rays = make_rays(scene, RayKind::kRandom, kRaysPerBatch, 7);
   std::vector<Hit> ref(rays.size());
   isect->intersect(rays, ref);
   std::vector<std::vector<Hit>> got(kArenas, std::vector<Hit>(rays.size()));
@@ -129,7 +128,7 @@ TEST(Concurrency, BvhCallersInSeparateArenas) {
   for (std::thread& c : callers) c.join();
   for (int t = 0; t < kArenas; ++t) {
     size_t bad = 0;
-    for (size_t i = 0; i < rays.size(); ++i) bad += same_hit(got[t][i], ref[i]) ? 0 : 1;
+    for (size_t i = 0; i < rays.size(); ++i) bad += test::same_hit(got[t][i], ref[i]) ? 0 : 1;
     EXPECT_EQ(bad, 0u) << "arena of " << 1 + t << " threads";
   }
 }

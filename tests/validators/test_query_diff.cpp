@@ -56,8 +56,9 @@ TEST(QueryDiff, ExactJudgesOnACube) {
   EXPECT_FALSE(exact_closest(scene, {0, 0, 3}, 1.5f).found());
 }
 
-std::unique_ptr<Intersector> built(const Scene& scene, const std::string& backend,
-                                   TriangleTestKind test = TriangleTestKind::kWatertight) {
+std::unique_ptr<Intersector> built_with_test(
+    const Scene& scene, const std::string& backend,
+    TriangleTestKind test = TriangleTestKind::kWatertight) {
   BackendOptions o;
   o.backend = backend;
   o.triangle_test = test;
@@ -71,9 +72,9 @@ TEST(QueryDiff, BvhIsNeverWrongAndTheDiffCatchesWrongBackends) {
   Scene scene;
   scene.add_mesh(generate_torus(2000));
   run_with_threads(2, [&] {
-    auto bvh = built(scene, "bvh");
-    auto embree = built(scene, "embree");
-    auto mt = built(scene, "bvh", TriangleTestKind::kMoller);
+    auto bvh = built_with_test(scene, "bvh");
+    auto embree = built_with_test(scene, "embree");
+    auto mt = built_with_test(scene, "bvh", TriangleTestKind::kMoller);
     const std::vector<Ray> probes = make_rays(scene, RayKind::kVertexProbe, 3000, 1);
     const QueryDiffResult c = run_count_diff(scene, probes, *bvh, *embree);
     EXPECT_EQ(c.backend_wrong(), 0u);
