@@ -10,9 +10,13 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <cstdint>
+#include <filesystem>
 #include <string>
+#include <string_view>
 #include <vector>
 
+#include "core/camera.h"
 #include "io/image/image_codec.h"
 
 namespace hprt {
@@ -85,6 +89,21 @@ std::string read(const std::string& path, Image& img) {
   img.channels = spec.nchannels;
   if (img.width <= 0 || img.height <= 0 || img.channels <= 0 || spec.depth > 1)
     return "image has no pixels";
+  const long long pixels = static_cast<long long>(img.width) * img.height;
+  if (pixels > kMaxCameraPixels)
+    return "image of " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+           " pixels, more than hprt renders (" + std::to_string(kMaxCameraPixels) + ")";
+  // OIIO decodes an interlaced PNG whole on its first row, so its header's
+  // size is allocated before any data is read. But deflate expands at most
+  // 1032:1, and a PNG pixel takes at least one bit: a header that claims
+  // more pixels than that is a lie, told before the allocation.
+  if (in->format_name() == std::string_view("png")) {
+    std::error_code ec;
+    const uintmax_t bytes = std::filesystem::file_size(path, ec);
+    if (!ec && uintmax_t(pixels) / 8 > 1032 * (bytes + 64))
+      return "PNG header claims " + std::to_string(img.width) + "x" + std::to_string(img.height) +
+             " pixels, more than its " + std::to_string(bytes) + " bytes can hold";
+  }
   const size_t row = size_t(img.width) * size_t(img.channels);
   // Strips of about 1 MiB (whole rows of tiles in a tiled file), the buffer
   // growing as the rows arrive: a header that claims more pixels than the

@@ -232,12 +232,38 @@ TEST_F(BadInput, FifosDevicesBombsAndLyingImages) {
     for (int k = 3; k >= 0; --k) c += char((crc >> (8 * k)) & 0xff);
     return c;
   };
+  // The IDAT chunk holds a few compressed zero bytes, so that the reader
+  // gets past the header (without one it fails at once).
+  std::string idat(64, '\0');
+  uLongf idat_size = uLongf(idat.size());
+  const std::string zeros(100, '\0');
+  ASSERT_EQ(::compress(reinterpret_cast<Bytef*>(idat.data()), &idat_size,
+                       reinterpret_cast<const Bytef*>(zeros.data()), uLong(zeros.size())),
+            Z_OK);
+  idat.resize(idat_size);
+  const auto png = [&](const std::string& ihdr) {
+    return "\x89PNG\r\n\x1a\n" + chunk("IHDR", ihdr) + chunk("IDAT", idat) + chunk("IEND", "");
+  };
   const std::string ihdr("\x00\x00\x75\x30\x00\x00\x75\x30\x08\x02\x00\x00\x00", 13);
-  spit(dir_ / "huge.png", "\x89PNG\r\n\x1a\n" + chunk("IHDR", ihdr) + chunk("IEND", ""));
+  spit(dir_ / "huge.png", png(ihdr));
 #if !defined(__SANITIZE_ADDRESS__) && !defined(__SANITIZE_THREAD__)
   expect_rejected("a PNG claiming 30000x30000 pixels", "validate image a.png huge.png",
-                  {"huge.png"}, "ulimit -v 3145728 && ");
+                  {"huge.png", "more than hprt renders"}, "ulimit -v 3145728 && ");
 #endif
+  // 16000 x 16000, fewer pixels than that cap: read a strip at a time, the
+  // file fails at its first missing row; interlaced, OIIO would allocate the
+  // whole image on the first row, so the header is refused first (no 100
+  // bytes can hold it).
+  std::string big = ihdr;
+  big[2] = big[6] = '\x3e';
+  big[3] = big[7] = '\x80';
+  spit(dir_ / "big.png", png(big));
+  expect_rejected("a PNG claiming 16000x16000 pixels", "validate image a.png big.png",
+                  {"big.png", "PNG header claims 16000x16000 pixels", "bytes can hold"});
+  big[12] = '\x01';
+  spit(dir_ / "laced.png", png(big));
+  expect_rejected("an interlaced PNG claiming 16000x16000 pixels", "validate image a.png laced.png",
+                  {"laced.png", "PNG header claims 16000x16000 pixels", "bytes can hold"});
   // Control characters of a scene file reach the message escaped, on one line.
   spit(dir_ / "nl.json", "{\"meshes\":[{\"file\":\"good.ply\"}],\"bad\\nkey\":1}");
   expect_rejected("a JSON key with a newline", "build nl.json", {"nl.json", "bad\\nkey"});

@@ -176,11 +176,11 @@ TEST(PlyReader, OddLayoutSameMeshInAllThreeEncodings) {
 TEST(PlyReader, FanTriangulatesPolygonsInOrder) {
   const std::string s =
       "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
-      "property float z\nelement face 3\nproperty list uchar int vertex_indices\nend_header\n"
+      "property float z\nelement face 2\nproperty list uchar int vertex_indices\nend_header\n"
       "0 0 0\n1 0 0\n1 1 0\n0 1 0\n0 2 0\n1 2 0\n"
-      "5 0 1 2 3 4\n2 0 1\n3 3 2 5\n";
+      "5 0 1 2 3 4\n3 3 2 5\n";
   const TriangleMesh m = hprt::read_ply("p.ply", s);
-  // Pentagon -> 3 triangles, the 2-index face -> none, then the triangle.
+  // Pentagon -> 3 triangles, then the triangle.
   const std::vector<Vec3u> want = {Vec3u{{0, 1, 2}}, Vec3u{{0, 2, 3}}, Vec3u{{0, 3, 4}},
                                    Vec3u{{3, 2, 5}}};
   EXPECT_EQ(m.triangles, want);
@@ -266,6 +266,42 @@ TEST(PlyReader, NegativeListCountIsError) {
       "property float z\nelement face 1\nproperty list int int vertex_indices\nend_header\n"
       "0 0 0\n0 0 0\n0 0 0\n-3 0 1 2\n";
   expect_ply_error(a, "negative list count -3");
+}
+
+TEST(PlyReader, FaceOfFewerThanThreeVerticesIsError) {
+  // As in OBJ files: every path (ASCII, the uchar/int fast path, other list
+  // types) names the face.
+  const std::string head =
+      "element vertex 3\nproperty float x\nproperty float y\nproperty float z\n"
+      "element face 2\n";
+  for (int n = 0; n < 3; ++n) {
+    // Built by appending: g++ 12 reports a false -Wrestrict on some chains of +.
+    std::string want = "face 1: face with ";
+    want.append(std::to_string(n)).append(" vertices");
+    std::string a = "ply\nformat ascii 1.0\n";
+    a.append(head).append("property list uchar int vertex_indices\nend_header\n");
+    a.append("0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n").append(std::to_string(n));
+    for (int k = 0; k < n; ++k) a.append(" ").append(std::to_string(k));
+    expect_ply_error(a.append("\n"), want + " (at least 3 needed)");
+    for (const std::string list : {"uchar int", "ushort uint"}) {
+      Bytes b;
+      b.s = "ply\nformat binary_little_endian 1.0\n";
+      b.s.append(head).append("property list ").append(list);
+      b.s.append(" vertex_indices\nend_header\n");
+      for (int i = 0; i < 9; ++i) b.put<float>(i == 3 || i == 7 ? 1.0f : 0.0f);
+      const auto count = [&](int c) {
+        if (list == "uchar int")  // the fast path
+          b.put<uint8_t>(uint8_t(c));
+        else
+          b.put<uint16_t>(uint16_t(c));
+      };
+      count(3);
+      b.put<int32_t>(0).put<int32_t>(1).put<int32_t>(2);
+      count(n);
+      for (int k = 0; k < n; ++k) b.put<int32_t>(k);
+      expect_ply_error(b.s, want);
+    }
+  }
 }
 
 TEST(PlyReader, AbsurdListCountIsError) {

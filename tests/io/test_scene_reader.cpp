@@ -175,6 +175,21 @@ TEST_F(SceneReader, UnknownFieldsNamed) {
                "unknown field 'animation.deformers[0].ampltude'");
 }
 
+TEST_F(SceneReader, DuplicateKeysNamed) {
+  expect_error(scene_with(R"("background": [0, 0, 0], "background": [1, 1, 1])"),
+               "JSON object with the key 'background' twice");
+  expect_error(scene_with(R"("camera": {"width": 64, "height": 48, "width": 32})"),
+               "JSON object with the key 'width' twice");
+  expect_error(R"({"meshes": [{"generate": {"kind": "sphere", "kind": "torus"}}]})",
+               "JSON object with the key 'kind' twice");
+  // One key in two objects, or in an object and its parent, is no duplicate.
+  const Scene s =
+      load_scene(write("ok.json", R"({"meshes": [{"generate": {"kind": "sphere", "tris": 20}},
+                                                 {"generate": {"kind": "torus", "tris": 20}}],
+                                      "camera": {"width": 64, "height": 48}})"));
+  EXPECT_EQ(s.meshes.size(), 2u);
+}
+
 TEST_F(SceneReader, WrongTypesAndValuesNamed) {
   expect_error(scene_with(R"("camera": {"width": "800"})"),
                "field 'camera.width': expected an integer");

@@ -455,6 +455,10 @@ class PlyDecoder {
   }
 
   void emit_fan() {
+    // As the OBJ reader: a face of 0-2 vertices is a broken file, not a
+    // polygon to skip.
+    if (poly_.size() < 3)
+      at_.fail("face with " + std::to_string(poly_.size()) + " vertices (at least 3 needed)");
     const uint64_t nv = mesh_->positions.size();
     for (int64_t idx : poly_)
       if (idx < 0 || static_cast<uint64_t>(idx) >= nv) bad_index(idx);

@@ -4,14 +4,33 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <string>
+#include <unordered_set>
+#include <vector>
 
 #include "core/error.h"
 
 namespace hprt {
 
 Json parse_json(const std::string& file, std::string_view bytes) {
+  // A key twice in one object is an error (nlohmann keeps the last): one of
+  // the two values would be ignored without a word. The keys of each open
+  // object, innermost last.
+  std::vector<std::unordered_set<std::string>> keys;
+  const Json::parser_callback_t check = [&](int, Json::parse_event_t event, Json& parsed) {
+    if (event == Json::parse_event_t::object_start) {
+      keys.emplace_back();
+    } else if (event == Json::parse_event_t::object_end) {
+      keys.pop_back();
+    } else if (event == Json::parse_event_t::key) {
+      const std::string& key = parsed.get_ref<const std::string&>();
+      if (!keys.back().insert(key).second)
+        throw InputError(file, "JSON object with the key '" + key + "' twice");
+    }
+    return true;
+  };
   try {
-    return Json::parse(bytes.begin(), bytes.end());
+    return Json::parse(bytes.begin(), bytes.end(), check);
   } catch (const Json::exception& e) {
     // nlohmann's message: "[json.exception.parse_error.101] parse error at line L, column C: ..."
     std::string msg = e.what();
