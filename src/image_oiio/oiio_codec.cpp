@@ -11,7 +11,7 @@
 
 #include <algorithm>
 #include <cstdint>
-#include <filesystem>
+#include <cstdio>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -76,6 +76,55 @@ class QuietStderr {
   int saved_;
 };
 
+// What a PNG's chunk headers say: bits per pixel (IHDR's bit depth times its
+// colour type's samples; 0 when there is no valid IHDR) and the bytes of its
+// IDAT chunks. Only the chunk headers (and IHDR) are read; a file cut short
+// ends the walk (OIIO then says what is wrong).
+struct PngLayout {
+  unsigned bits_per_pixel = 0;
+  uint64_t idat_bytes = 0;
+};
+PngLayout read_png_layout(const std::string& path) {
+  PngLayout out;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  if (!f) return out;
+  const auto be32 = [](const unsigned char* b) {
+    return uint32_t(b[0]) << 24 | uint32_t(b[1]) << 16 | uint32_t(b[2]) << 8 | uint32_t(b[3]);
+  };
+  // A chunk's IDAT bytes count only as far as the file holds them (its
+  // length field may lie too).
+  long size = 0;
+  if (std::fseek(f, 0, SEEK_END) == 0) size = std::ftell(f);
+  std::rewind(f);
+  unsigned char head[8];
+  if (size > 0 && std::fread(head, 1, 8, f) == 8)  // the signature
+    while (std::fread(head, 1, 8, f) == 8) {
+      const uint32_t length = be32(head);
+      const std::string_view type(reinterpret_cast<const char*>(head + 4), 4);
+      long skip = long(length) + 4;  // data and CRC
+      if (type == "IHDR" && length == 13) {
+        unsigned char ihdr[13];
+        if (std::fread(ihdr, 1, 13, f) != 13) break;
+        skip -= 13;
+        const unsigned depth = ihdr[8], colour = ihdr[9];
+        const unsigned samples = colour == 0 || colour == 3 ? 1
+                                 : colour == 2              ? 3
+                                 : colour == 4              ? 2
+                                 : colour == 6              ? 4
+                                                            : 0;
+        out.bits_per_pixel = depth <= 16 ? depth * samples : 0;
+      } else if (type == "IDAT") {
+        const long here = std::ftell(f);
+        out.idat_bytes += std::min<uint64_t>(length, uint64_t(std::max(0L, size - here)));
+      } else if (type == "IEND") {
+        break;
+      }
+      if (std::fseek(f, skip, SEEK_CUR) != 0) break;
+    }
+  std::fclose(f);
+  return out;
+}
+
 std::string read(const std::string& path, Image& img) {
   const QuietStderr quiet;
   auto in = OIIO::ImageInput::open(path);
@@ -95,14 +144,15 @@ std::string read(const std::string& path, Image& img) {
            " pixels, more than hprt renders (" + std::to_string(kMaxCameraPixels) + ")";
   // OIIO decodes an interlaced PNG whole on its first row, so its header's
   // size is allocated before any data is read. But deflate expands at most
-  // 1032:1, and a PNG pixel takes at least one bit: a header that claims
-  // more pixels than that is a lie, told before the allocation.
+  // 1032:1: a header that claims more pixel bytes than that of its IDAT
+  // data is a lie, told before the allocation.
   if (in->format_name() == std::string_view("png")) {
-    std::error_code ec;
-    const uintmax_t bytes = std::filesystem::file_size(path, ec);
-    if (!ec && uintmax_t(pixels) / 8 > 1032 * (bytes + 64))
+    const PngLayout png = read_png_layout(path);
+    const uint64_t need = (uint64_t(pixels) * png.bits_per_pixel + 7) / 8;
+    if (png.bits_per_pixel > 0 && need > 1032 * (png.idat_bytes + 64))
       return "PNG header claims " + std::to_string(img.width) + "x" + std::to_string(img.height) +
-             " pixels, more than its " + std::to_string(bytes) + " bytes can hold";
+             " pixels of " + std::to_string(png.bits_per_pixel) + " bits, more than its " +
+             std::to_string(png.idat_bytes) + " bytes of image data can hold";
   }
   const size_t row = size_t(img.width) * size_t(img.channels);
   // Strips of about 1 MiB (whole rows of tiles in a tiled file), the buffer

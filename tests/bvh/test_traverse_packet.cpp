@@ -19,14 +19,14 @@
 #include "tests/support/bvh_test_meshes.h"
 #include "tests/support/bvh_trace_helpers.h"
 
-using namespace hprt;
+namespace hprt {
 
 #if defined(HPRT_HAS_PACKETS)
 namespace {
 
 // The box of some triangles: the lane tests' error bound needs the tree's box
 // (WatertightTest::prepare); without one every lane goes to the scalar test.
-AABB box_of(const std::vector<TriangleVerts>& verts) {
+AABB bounds_of_verts(const std::vector<TriangleVerts>& verts) {
   AABB b;
   for (const TriangleVerts& v : verts) {
     b.extend(v.v0);
@@ -289,7 +289,7 @@ TEST(WatertightLanes, MatchesScalarTestBitForBit) {
       const Vec3f target = v.v0 + (v.v1 - v.v0) * s + (v.v2 - v.v0) * (q * (1.0f - s));
       rays[l].org = eye;
       rays[l].dir = target - eye;
-      prep[l] = WatertightTest::prepare(rays[l], box_of(verts));
+      prep[l] = WatertightTest::prepare(rays[l], bounds_of_verts(verts));
       tnear[l] = l % 5 == 0 ? 0.5f : 0.0f;
       tfar[l] = l % 7 == 0 ? 1.0f : 1e30f;
     }
@@ -385,7 +385,7 @@ TEST_F(WatertightLeaf, MatchesScalarTestBitForBit) {
   size_t hits = 0, compared = 0;
   for (int k = 0; k < 300; ++k) {
     const Ray ray = fan_probe(rng, verts, centre, k);
-    const WatertightTest::Prepared prep = WatertightTest::prepare(ray, box_of(verts));
+    const WatertightTest::Prepared prep = WatertightTest::prepare(ray, bounds_of_verts(verts));
     for (bool own_block : {false, true})
       for (uint32_t count = 1; count <= 8; ++count)
         for (uint32_t first = 0; first + count <= verts.size(); first += 3) {
@@ -434,7 +434,7 @@ TEST_F(WatertightLeaf, LeafTestKeepsTheLoopsHit) {
   size_t closest_hits = 0, carried_ties = 0;
   for (int k = 0; k < 800; ++k) {
     const Ray ray = fan_probe(rng, verts, centre, k);
-    const WatertightTest::Prepared prep = WatertightTest::prepare(ray, box_of(verts));
+    const WatertightTest::Prepared prep = WatertightTest::prepare(ray, bounds_of_verts(verts));
     for (uint32_t count = 1; count <= 20; ++count)
       for (uint32_t first = 0; first + count <= verts.size(); first += 5) {
         const LeafRange leaf = store_blocks(tris, verts, (first + count) % 2 == 0, first, count);
@@ -520,3 +520,5 @@ TEST(TraversePacket, EmptyTreeMissesEveryLane) {
 #else
 TEST(TraversePacket, NeedsAvx512) { GTEST_SKIP() << "built without AVX-512F: no packet traversal"; }
 #endif
+
+}  // namespace hprt

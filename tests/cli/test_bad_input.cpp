@@ -253,17 +253,32 @@ TEST_F(BadInput, FifosDevicesBombsAndLyingImages) {
   // 16000 x 16000, fewer pixels than that cap: read a strip at a time, the
   // file fails at its first missing row; interlaced, OIIO would allocate the
   // whole image on the first row, so the header is refused first (no 100
-  // bytes can hold it).
+  // bytes of deflate data can hold it).
   std::string big = ihdr;
   big[2] = big[6] = '\x3e';
   big[3] = big[7] = '\x80';
   spit(dir_ / "big.png", png(big));
   expect_rejected("a PNG claiming 16000x16000 pixels", "validate image a.png big.png",
-                  {"big.png", "PNG header claims 16000x16000 pixels", "bytes can hold"});
+                  {"big.png", "PNG header claims 16000x16000 pixels of 24 bits",
+                   "bytes of image data can hold"});
   big[12] = '\x01';
   spit(dir_ / "laced.png", png(big));
   expect_rejected("an interlaced PNG claiming 16000x16000 pixels", "validate image a.png laced.png",
-                  {"laced.png", "PNG header claims 16000x16000 pixels", "bytes can hold"});
+                  {"laced.png", "PNG header claims 16000x16000 pixels of 24 bits",
+                   "bytes of image data can hold"});
+  // Only IDAT data counts: 40 KB of text padding do not make room for
+  // 16384 x 16384 RGBA pixels of 16 bits (2 GiB decoded).
+  std::string deep = big;
+  deep[2] = deep[6] = '\x40';
+  deep[3] = deep[7] = '\x00';
+  deep[8] = '\x10', deep[9] = '\x06';
+  const std::string padded =
+      "\x89PNG\r\n\x1a\n" + chunk("IHDR", deep) +
+      chunk("tEXt", "Comment" + std::string(1, '\0') + std::string(40000, 'x')) +
+      chunk("IDAT", idat) + chunk("IEND", "");
+  spit(dir_ / "padded.png", padded);
+  expect_rejected("an interlaced PNG padded with text", "validate image a.png padded.png",
+                  {"padded.png", "16384x16384 pixels of 64 bits", "bytes of image data can hold"});
   // Control characters of a scene file reach the message escaped, on one line.
   spit(dir_ / "nl.json", "{\"meshes\":[{\"file\":\"good.ply\"}],\"bad\\nkey\":1}");
   expect_rejected("a JSON key with a newline", "build nl.json", {"nl.json", "bad\\nkey"});

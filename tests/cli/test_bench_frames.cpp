@@ -65,7 +65,7 @@ const std::vector<std::string> kBenchFramesRows = {"bvh auto (default)",
                                                    "embree dynamic refit robust",
                                                    "embree dynamic low robust"};
 
-int run(const std::string& args, const fs::path& out) {
+int run_frames(const std::string& args, const fs::path& out) {
   const std::string cmd = std::string(HPRT_BINARY) + " " + args + " >" + (out / "stdout").string() +
                           " 2>" + (out / "stderr").string();
   const int status = std::system(cmd.c_str());
@@ -86,7 +86,9 @@ class BenchFrames : public ::testing::Test {
 TEST_F(BenchFrames, QuickRunWritesEveryColumnAndEmbreeRows) {
   const fs::path out = dir_ / "out";
   ASSERT_EQ(
-      run("bench frames --quick --tris 2000 --frames 2 --threads 2 --out " + out.string(), dir_), 0)
+      run_frames("bench frames --quick --tris 2000 --frames 2 --threads 2 --out " + out.string(),
+                 dir_),
+      0)
       << slurp(dir_ / "stderr");
   const std::string md = slurp(dir_ / "stdout");
   EXPECT_NE(md.find("| wave"), std::string::npos) << md;
@@ -177,8 +179,8 @@ TEST_F(BenchFrames, QuickRunWritesEveryColumnAndEmbreeRows) {
 }
 
 TEST_F(BenchFrames, BadOptionsExit2) {
-  EXPECT_EQ(run("bench frames --quick --frames 0", dir_), 2);
-  EXPECT_EQ(run("bench frames " + (dir_ / "missing.ply").string() + " --quick", dir_), 2);
+  EXPECT_EQ(run_frames("bench frames --quick --frames 0", dir_), 2);
+  EXPECT_EQ(run_frames("bench frames " + (dir_ / "missing.ply").string() + " --quick", dir_), 2);
   EXPECT_NE(slurp(dir_ / "stderr").find("missing.ply"), std::string::npos);
 }
 

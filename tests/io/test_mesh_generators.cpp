@@ -12,7 +12,7 @@
 #include "core/parallel.h"
 #include "io/mesh/generate_mesh.h"
 
-using namespace hprt;
+namespace hprt {
 
 namespace {
 
@@ -280,3 +280,5 @@ TEST(MeshGenerators, GenerateMeshChecksOptions) {
     EXPECT_GE(generate_mesh(spec).triangle_count(), 100u) << kind;
   }
 }
+
+}  // namespace hprt

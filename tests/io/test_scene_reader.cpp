@@ -15,7 +15,7 @@
 #include "meshgen/mesh_generators.h"
 
 namespace fs = std::filesystem;
-using namespace hprt;
+namespace hprt {
 
 namespace {
 
@@ -188,6 +188,8 @@ TEST_F(SceneReader, DuplicateKeysNamed) {
                                                  {"generate": {"kind": "torus", "tris": 20}}],
                                       "camera": {"width": 64, "height": 48}})"));
   EXPECT_EQ(s.meshes.size(), 2u);
+  expect_error("{\"meshes\": " + std::string(100, '[') + std::string(100, ']') + "}",
+               "JSON nested deeper than 64 levels");
 }
 
 TEST_F(SceneReader, WrongTypesAndValuesNamed) {
@@ -340,3 +342,5 @@ TEST(SceneReaderShipped, DataScenesLoad) {
   }
   EXPECT_GE(count, 1);
 }
+
+}  // namespace hprt

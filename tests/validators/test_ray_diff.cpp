@@ -29,7 +29,7 @@ Scene two_squares() {
   return s;
 }
 
-Ray down(float x, float y) {
+Ray ray_down(float x, float y) {
   Ray r;
   r.org = {x, y, 5.0f};
   r.dir = {0, 0, -1};
@@ -55,22 +55,22 @@ struct Case {
 TEST(RayDiff, ClassifiesHandMadeAnswers) {
   const Scene s = two_squares();
   const std::vector<Case> cases = {
-      {down(0.75f, 0.25f), hit(1, 0, 4.0f), hit(1, 0, 4.0f), RayVerdict::kAgree},
-      {down(1.5f, 0.5f), kMiss, kMiss, RayVerdict::kAgree},
+      {ray_down(0.75f, 0.25f), hit(1, 0, 4.0f), hit(1, 0, 4.0f), RayVerdict::kAgree},
+      {ray_down(1.5f, 0.5f), kMiss, kMiss, RayVerdict::kAgree},
       // Through the shared diagonal: both triangles at t = 4.
-      {down(0.5f, 0.5f), hit(1, 0, 4.0f), hit(1, 1, 4.0f), RayVerdict::kTie},
+      {ray_down(0.5f, 0.5f), hit(1, 0, 4.0f), hit(1, 1, 4.0f), RayVerdict::kTie},
       // Same t, different triangle, but (1, 1) is not hit: embree is wrong.
-      {down(0.75f, 0.25f), hit(1, 0, 4.0f), hit(1, 1, 4.0f), RayVerdict::kBvhRight},
+      {ray_down(0.75f, 0.25f), hit(1, 0, 4.0f), hit(1, 1, 4.0f), RayVerdict::kBvhRight},
       // bvh misses a hit in the middle of a triangle.
-      {down(0.75f, 0.25f), kMiss, hit(1, 0, 4.0f), RayVerdict::kEmbreeRight},
+      {ray_down(0.75f, 0.25f), kMiss, hit(1, 0, 4.0f), RayVerdict::kEmbreeRight},
       // embree reports a hit on a ray that misses everything.
-      {down(1.5f, 0.5f), kMiss, hit(1, 0, 4.0f), RayVerdict::kBvhRight},
+      {ray_down(1.5f, 0.5f), kMiss, hit(1, 0, 4.0f), RayVerdict::kBvhRight},
       // bvh reports the farther square (t = 5) behind the closer one (t = 4).
-      {down(0.25f, 0.75f), hit(0, 1, 5.0f), hit(1, 1, 4.0f), RayVerdict::kEmbreeRight},
+      {ray_down(0.25f, 0.75f), hit(0, 1, 5.0f), hit(1, 1, 4.0f), RayVerdict::kEmbreeRight},
       // Right triangle, wrong t; the other misses: both wrong.
-      {down(0.75f, 0.25f), hit(1, 0, 4.5f), kMiss, RayVerdict::kBothWrong},
+      {ray_down(0.75f, 0.25f), hit(1, 0, 4.5f), kMiss, RayVerdict::kBothWrong},
       // A miss through the shared edge is a leak, not float resolution.
-      {down(0.5f, 0.5f), kMiss, hit(1, 1, 4.0f), RayVerdict::kEmbreeRight},
+      {ray_down(0.5f, 0.5f), kMiss, hit(1, 1, 4.0f), RayVerdict::kEmbreeRight},
   };
   std::vector<Ray> rays;
   std::vector<Hit> hb, he;
@@ -122,7 +122,7 @@ TEST(RayDiff, FoldSeenEdgeOnMayBeMissedButNotAFlatEdge) {
   t1.v[0] = 1, t1.v[1] = 0, t1.v[2] = 3;
   m.triangles = {t0, t1};
   s.add_mesh(m);
-  const std::vector<Ray> rays = {down(0.5f, 1e-6f), down(0.5f, 0.0f)};
+  const std::vector<Ray> rays = {ray_down(0.5f, 1e-6f), ray_down(0.5f, 0.0f)};
   const std::vector<Hit> bvh = {kMiss, kMiss};
   const std::vector<Hit> embree = {hit(0, 0, 5.0f), hit(0, 0, 5.0f)};
   const RayDiffResult r = diff_hits(s, rays, bvh, embree);
@@ -131,7 +131,7 @@ TEST(RayDiff, FoldSeenEdgeOnMayBeMissedButNotAFlatEdge) {
   EXPECT_EQ(int(r.verdicts[1]), int(RayVerdict::kBothRight));
 
   const Scene flat = two_squares();
-  const std::vector<Ray> near_edge = {down(0.5f + 1e-7f, 0.5f)};
+  const std::vector<Ray> near_edge = {ray_down(0.5f + 1e-7f, 0.5f)};
   const RayDiffResult f =
       diff_hits(flat, near_edge, std::vector<Hit>{kMiss}, std::vector<Hit>{hit(1, 0, 4.0f)});
   ASSERT_EQ(f.verdicts.size(), 1u);
@@ -140,7 +140,7 @@ TEST(RayDiff, FoldSeenEdgeOnMayBeMissedButNotAFlatEdge) {
 
 TEST(RayDiff, RelativeTTolerance) {
   const Scene s = two_squares();
-  const std::vector<Ray> rays = {down(0.75f, 0.25f)};
+  const std::vector<Ray> rays = {ray_down(0.75f, 0.25f)};
   // 4 * (1 + 2e-6): within 1e-5 -> agree, and the error is recorded.
   const std::vector<Hit> a = {hit(1, 0, 4.000008f)}, b = {hit(1, 0, 4.0f)};
   const RayDiffResult r = diff_hits(s, rays, a, b);
@@ -154,8 +154,9 @@ TEST(RayDiff, RelativeTTolerance) {
 
 TEST(RayDiff, Occlusion) {
   const Scene s = two_squares();
-  const std::vector<Ray> rays = {down(0.75f, 0.25f), down(1.5f, 0.5f), down(0.75f, 0.25f),
-                                 down(1.5f, 0.5f), down(0.5f, 0.5f)};
+  const std::vector<Ray> rays = {ray_down(0.75f, 0.25f), ray_down(1.5f, 0.5f),
+                                 ray_down(0.75f, 0.25f), ray_down(1.5f, 0.5f),
+                                 ray_down(0.5f, 0.5f)};
   const std::vector<uint8_t> bvh = {1, 0, 0, 1, 1}, embree = {1, 0, 1, 0, 0};
   const RayDiffResult r = diff_occlusion(s, rays, bvh, embree);
   EXPECT_EQ(r.agree, 2u);

@@ -23,9 +23,9 @@
 namespace hprt {
 namespace {
 
-constexpr int kThreads = 2;
+constexpr int kStrategyThreads = 2;
 constexpr int kFrames = 4;  // frame 0 = the build, then 3 updates
-constexpr size_t kRays = 600;
+constexpr size_t kStrategyRays = 600;
 
 // A ~20k-triangle unit sphere with one deformer; fps 8, so frames 1..3 are
 // t = 0.125 .. 0.375 s.
@@ -64,14 +64,14 @@ DeformerSpec spec(const std::string& kind) {
 
 std::unique_ptr<Intersector> bvh_backend(UpdateStrategy u) {
   BackendOptions o;
-  o.threads = kThreads;
+  o.threads = kStrategyThreads;
   o.update = u;
   return make_intersector("bvh", o);
 }
 
 std::unique_ptr<Intersector> embree_backend(const std::string& quality) {
   BackendOptions o;
-  o.threads = kThreads;
+  o.threads = kStrategyThreads;
   o.embree_quality = quality;
   return make_intersector("embree", o);
 }
@@ -91,7 +91,7 @@ struct DeformRun {
 DeformRun check_deformer(const std::string& kind) {
   DeformRun run;
   Scene scene = deformed_sphere(spec(kind));
-  run_with_threads(kThreads, [&] {
+  run_with_threads(kStrategyThreads, [&] {
     const SceneAnimator animator(scene);
     animator.apply(0, scene);
     const UpdateStrategy strategies[] = {UpdateStrategy::kRebuild, UpdateStrategy::kRefit,
@@ -103,14 +103,14 @@ DeformRun check_deformer(const std::string& kind) {
     }
     // Refit with Möller–Trumbore: the refit re-gathers the edges array it reads.
     BackendOptions mt;
-    mt.threads = kThreads;
+    mt.threads = kStrategyThreads;
     mt.update = UpdateStrategy::kRefit;
     mt.triangle_test = TriangleTestKind::kMoller;
     auto bvh_mt = make_intersector("bvh", mt);
     bvh_mt->build(scene);
     // Adaptive over the Morton builder's trees.
     BackendOptions morton;
-    morton.threads = kThreads;
+    morton.threads = kStrategyThreads;
     morton.build.builder = BuilderKind::kMorton;
     morton.update = UpdateStrategy::kAdaptive;
     auto bvh_morton = make_intersector("bvh", morton);
@@ -125,7 +125,7 @@ DeformRun check_deformer(const std::string& kind) {
       std::vector<Ray> rays;
       uint64_t seed = 100 + frame;
       for (RayKind k : {RayKind::kPrimary, RayKind::kShadow, RayKind::kRandom}) {
-        const std::vector<Ray> r = make_rays(scene, k, kRays, seed++, fresh.get());
+        const std::vector<Ray> r = make_rays(scene, k, kStrategyRays, seed++, fresh.get());
         rays.insert(rays.end(), r.begin(), r.end());
       }
       for (size_t s = 0; s < bvhs.size(); ++s) {
@@ -193,11 +193,11 @@ TEST(UpdateStrategies, AdaptiveRebuildsDuringExplode) {
 TEST(UpdateStrategies, AdaptiveDecisionFollowsTheFactor) {
   // Same explode, factor 100: the refitted tree never costs that much more.
   Scene scene = deformed_sphere(spec("explode"));
-  run_with_threads(kThreads, [&] {
+  run_with_threads(kStrategyThreads, [&] {
     const SceneAnimator animator(scene);
     animator.apply(0, scene);
     BackendOptions o;
-    o.threads = kThreads;
+    o.threads = kStrategyThreads;
     o.update = UpdateStrategy::kAdaptive;
     o.adaptive_factor = 100.0f;
     auto bvh = make_intersector("bvh", o);
@@ -215,7 +215,7 @@ TEST(UpdateStrategies, AdaptiveDecisionFollowsTheFactor) {
 
 TEST(UpdateStrategies, ValidTriangleSetChangeForcesARebuild) {
   Scene scene = deformed_sphere(spec("wave"));
-  run_with_threads(kThreads, [&] {
+  run_with_threads(kStrategyThreads, [&] {
     for (UpdateStrategy u :
          {UpdateStrategy::kRefit, UpdateStrategy::kAdaptive, UpdateStrategy::kAuto}) {
       Scene s = scene;
@@ -238,7 +238,7 @@ TEST(UpdateStrategies, ValidTriangleSetChangeForcesARebuild) {
       EXPECT_FALSE(bvh->info().rebuilt) << name(u);
       auto fresh = embree_backend("medium");
       fresh->build(s);
-      const std::vector<Ray> rays = make_rays(s, RayKind::kPrimary, kRays, 3);
+      const std::vector<Ray> rays = make_rays(s, RayKind::kPrimary, kStrategyRays, 3);
       EXPECT_EQ(run_ray_diff(s, rays, *bvh, *fresh, false).bvh_wrong(), 0u);
     }
   });
@@ -256,7 +256,7 @@ namespace {
 // auto_update_policy's, tested on fixed figures in test_auto_update_policy.)
 TEST(UpdateStrategies, AutoRebuildsAHeavilyQueriedExplosion) {
   Scene scene = deformed_sphere(spec("explode"));
-  run_with_threads(kThreads, [&] {
+  run_with_threads(kStrategyThreads, [&] {
     const SceneAnimator animator(scene);
     animator.apply(0, scene);
     auto bvh = bvh_backend(UpdateStrategy::kAuto);
@@ -279,7 +279,7 @@ TEST(UpdateStrategies, AutoRebuildsAHeavilyQueriedExplosion) {
       }
       auto fresh = embree_backend("medium");
       fresh->build(scene);
-      const std::vector<Ray> rays = make_rays(scene, RayKind::kPrimary, kRays, 11 + frame);
+      const std::vector<Ray> rays = make_rays(scene, RayKind::kPrimary, kStrategyRays, 11 + frame);
       EXPECT_EQ(run_ray_diff(scene, rays, *bvh, *fresh, false).bvh_wrong(), 0u) << frame;
     }
     EXPECT_GE(rebuilds, 2);
@@ -291,7 +291,7 @@ TEST(UpdateStrategies, AutoRebuildsAHeavilyQueriedExplosion) {
 TEST(UpdateStrategies, AutoWithoutQueriesFollowsTheAdaptiveRule) {
   for (const char* kind : {"wave", "explode"}) {
     Scene scene = deformed_sphere(spec(kind));
-    run_with_threads(kThreads, [&] {
+    run_with_threads(kStrategyThreads, [&] {
       const SceneAnimator animator(scene);
       animator.apply(0, scene);
       auto bvh = bvh_backend(UpdateStrategy::kAuto);

@@ -16,6 +16,7 @@
 
 #include "backends/intersector.h"
 #include "bench/bench_options.h"
+#include "bench/bench_timing.h"
 #include "cli/commands.h"
 #include "core/parallel.h"
 #include "io/scene/scene_reader.h"
@@ -36,12 +37,6 @@ size_t peak_memory_bytes() {
   return size_t(u.ru_maxrss) * 1024;  // Linux reports kilobytes
 }
 
-double median(std::vector<double> v) {
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
-
 void run_build(const BuildArgs& a) {
   BackendOptions options = finish_backend_options(a.backend);
   options.backend = "bvh";
@@ -59,7 +54,7 @@ void run_build(const BuildArgs& a) {
     }
   });
   const TreeStats& s = info.stats;
-  const double build_ms = median(times);
+  const double build_ms = bench::summarize_ms(times).median_ms;
   const double bytes_per_tri = s.triangles ? double(info.memory_bytes) / double(s.triangles) : 0.0;
   char hash[17];
   std::snprintf(hash, sizeof hash, "%016" PRIx64, s.tree_hash);

@@ -18,6 +18,7 @@
 
 #include "anim/scene_animator.h"
 #include "backends/intersector.h"
+#include "bench/bench_timing.h"
 #include "cli/commands.h"
 #include "cli/frame_range.h"
 #include "cli/malformed_warning.h"
@@ -80,13 +81,6 @@ FrameReport render_frame(const Scene& scene, const Camera& camera, const Interse
   write_image(output, fb.width(), fb.height(), fb.pixels());
   report.output = output;
   return report;
-}
-
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::sort(v.begin(), v.end());
-  const size_t n = v.size();
-  return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
 double mrays_per_s(const FrameReport& f) {
@@ -236,7 +230,8 @@ void run_frames(const RenderArgs& a) {
                "%.2f ms, total %.2f ms\n",
                times.size(), times.size() == 1 ? "" : "s", a.frames.c_str(), config.c_str(),
                strategy.c_str(), scene.triangle_count(), camera.width, camera.height, threads,
-               median(update), update_total, rebuilds, median(render), render_total);
+               bench::summarize_ms(update).median_ms, update_total, rebuilds,
+               bench::summarize_ms(render).median_ms, render_total);
   cli::warn_malformed("hprt render", config, malformed);
 }
 

@@ -12,12 +12,22 @@
 
 namespace hprt {
 
+namespace {
+constexpr int kMaxJsonDepth = 64;
+}  // namespace
+
 Json parse_json(const std::string& file, std::string_view bytes) {
   // A key twice in one object is an error (nlohmann keeps the last): one of
   // the two values would be ignored without a word. The keys of each open
   // object, innermost last.
   std::vector<std::unordered_set<std::string>> keys;
-  const Json::parser_callback_t check = [&](int, Json::parse_event_t event, Json& parsed) {
+  const Json::parser_callback_t check = [&](int depth, Json::parse_event_t event, Json& parsed) {
+    // No scene nests deeper than a few levels; a hostile file could nest
+    // millions, each costing the parser and the key sets memory.
+    if ((event == Json::parse_event_t::object_start || event == Json::parse_event_t::array_start) &&
+        depth >= kMaxJsonDepth)
+      throw InputError(file,
+                       "JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
     if (event == Json::parse_event_t::object_start) {
       keys.emplace_back();
     } else if (event == Json::parse_event_t::object_end) {
