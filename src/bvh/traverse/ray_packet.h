@@ -49,7 +49,13 @@ struct RayPacket {
   bool frustum = false;
   float near_org[3], far_org[3], rcp_near_lo[3], rcp_near_hi[3], rcp_far_lo[3], rcp_far_hi[3];
   float tnear_min = 0.0f;
-  typename Test::Prepared prep[kPacketSize];
+  // Each lane's state is set at its first leaf (`prepared`): most rays of a
+  // packet that misses the mesh never get there. A variant member is left
+  // uninitialised by the constructor, where a plain array would run
+  // Prepared's member initialisers for all 16 lanes of every packet.
+  union {
+    typename Test::Prepared prep[kPacketSize];
+  };
 
   const Ray* rays;
   AABB root;               // the tree's box, for the lanes' error bound (WatertightTest::prepare)
@@ -57,7 +63,8 @@ struct RayPacket {
   // The watertight test over all lanes at once, set up with every lane's
   // `prep` at the first leaf (usable when the lanes share their axes).
   static constexpr bool kLaneTest = std::is_same_v<Test, WatertightTest>;
-  std::conditional_t<kLaneTest, WatertightLanes, bool> lanes{};
+  // Default-initialised (its vectors are set by setup()): `{}` would zero them.
+  std::conditional_t<kLaneTest, WatertightLanes, bool> lanes;
 
   HPRT_FORCE_INLINE RayPacket(const Ray* r, const AABB& root_box) : rays(r), root(root_box) {
     // A Ray is eight floats (org, tnear, dir, tfar): field f of lane l is
