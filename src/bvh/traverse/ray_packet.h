@@ -21,6 +21,7 @@
 #include "bvh/traverse/simd16.h"
 #include "core/force_inline.h"
 #include "core/ray.h"
+#include "core/ray_fields16.h"
 
 namespace hprt {
 
@@ -67,20 +68,14 @@ struct RayPacket {
   std::conditional_t<kLaneTest, WatertightLanes, bool> lanes;
 
   HPRT_FORCE_INLINE RayPacket(const Ray* r, const AABB& root_box) : rays(r), root(root_box) {
-    // A Ray is eight floats (org, tnear, dir, tfar): field f of lane l is
-    // float 8 * l + f from the first ray.
-    static_assert(sizeof(Ray) == 8 * sizeof(float) && offsetof(Ray, tnear) == 3 * sizeof(float) &&
-                  offsetof(Ray, dir) == 4 * sizeof(float) &&
-                  offsetof(Ray, tfar) == 7 * sizeof(float));
-    const __m512i lane_offset = _mm512_slli_epi32(
-        _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15), 3);
-    const float* field = reinterpret_cast<const float*>(rays);
-    tnear = gather16(lane_offset, field + 3);
+    __m512 field[8];
+    load_ray_fields16(rays, field);
+    tnear = field[3];
     _mm512_store_ps(tnear_lane, tnear);
-    _mm512_store_ps(tfar_lane, gather16(lane_offset, field + 7));
+    _mm512_store_ps(tfar_lane, field[7]);
     for (int a = 0; a < 3; ++a) {
-      const __m512 dir = gather16(lane_offset, field + 4 + a);
-      org[a] = gather16(lane_offset, field + a);
+      const __m512 dir = field[4 + a];
+      org[a] = field[a];
       const __m512 rcp = _mm512_div_ps(_mm512_set1_ps(1.0f), dir);  // correctly rounded
       rcp_near[a] = _mm512_mul_ps(rcp, _mm512_set1_ps(kSlabNearPad));
       rcp_far[a] = _mm512_mul_ps(rcp, _mm512_set1_ps(kSlabFarPad));

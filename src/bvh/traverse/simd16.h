@@ -41,12 +41,6 @@ HPRT_FORCE_INLINE float masked_max16(__mmask16 m, __m512 v) {
 HPRT_FORCE_INLINE float reduce_min16(__m512 v) { return masked_min16(0xFFFF, v); }
 HPRT_FORCE_INLINE float reduce_max16(__m512 v) { return masked_max16(0xFFFF, v); }
 
-// _mm512_i32gather_ps without its undefined pass-through operand, which
-// g++ 12 reports as maybe-uninitialized (as max16 above).
-HPRT_FORCE_INLINE __m512 gather16(__m512i offset, const float* base) {
-  return _mm512_mask_i32gather_ps(_mm512_setzero_ps(), 0xFFFF, offset, base, 4);
-}
-
 }  // namespace hprt::detail
 
 #endif  // __AVX512F__
