@@ -32,12 +32,15 @@ constexpr BvhLayout kLayouts[] = {BvhLayout::kBvh2, BvhLayout::kBvh4, BvhLayout:
 
 std::unique_ptr<Intersector> built(const Scene& scene, const std::string& backend,
                                    BvhLayout layout = BvhLayout::kBvh8,
-                                   BuilderKind builder = BuilderKind::kParallel) {
+                                   BuilderKind builder = BuilderKind::kParallel,
+                                   int max_leaf_size = 4) {
   BackendOptions o;
   o.backend = backend;
   o.layout = layout;
   o.build.builder = builder;
-  o.build.max_leaf_size = 4;
+  o.build.max_leaf_size = max_leaf_size;
+  // Large leaves asked for are filled: nodes made costly.
+  if (max_leaf_size > 4) o.build.sah.traversal_cost = 100.0f;
   o.threads = 2;
   auto b = make_intersector(backend, o);
   b->build(scene);
@@ -99,22 +102,25 @@ TEST(PointQueries, InsideExactOnEveryGridPointOfASubdividedCube) {
                                ? PointLocation::kInside
                                : (m == 16 ? PointLocation::kOnSurface : PointLocation::kOutside));
       }
-  for (BvhLayout layout : kLayouts) {
-    SCOPED_TRACE(to_string(layout));
-    run_with_threads(2, [&] {
-      auto b = built(scene, "bvh", layout);
-      std::vector<PointLocation> got(points.size());
-      b->locate(points, got);
-      size_t wrong = 0;
-      for (size_t i = 0; i < points.size(); ++i) {
-        wrong += got[i] != expected[i];
-        if (got[i] != expected[i] && wrong < 5)
-          ADD_FAILURE() << "point (" << points[i].x << ", " << points[i].y << ", " << points[i].z
-                        << "): got " << int(got[i]) << ", expected " << int(expected[i]);
-      }
-      EXPECT_EQ(wrong, 0u);
-    });
-  }
+  // Leaves of up to 4 and of up to 16 triangles (the on-surface test takes
+  // a leaf's triangles 8 at a time).
+  for (BvhLayout layout : kLayouts)
+    for (const int leaf_size : {4, 16}) {
+      SCOPED_TRACE(std::string(to_string(layout)) + " leaves <= " + std::to_string(leaf_size));
+      run_with_threads(2, [&] {
+        auto b = built(scene, "bvh", layout, BuilderKind::kParallel, leaf_size);
+        std::vector<PointLocation> got(points.size());
+        b->locate(points, got);
+        size_t wrong = 0;
+        for (size_t i = 0; i < points.size(); ++i) {
+          wrong += got[i] != expected[i];
+          if (got[i] != expected[i] && wrong < 5)
+            ADD_FAILURE() << "point (" << points[i].x << ", " << points[i].y << ", " << points[i].z
+                          << "): got " << int(got[i]) << ", expected " << int(expected[i]);
+        }
+        EXPECT_EQ(wrong, 0u);
+      });
+    }
 }
 
 TEST(PointQueries, InsideMatchesTheArbiterOnCurvedClosedMeshes) {

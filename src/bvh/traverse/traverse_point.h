@@ -75,6 +75,29 @@ inline __mmask8 near_children8(const float (&bounds)[6][8], const Vec3f& p, doub
 }
 #endif
 
+// The children of a wide node whose closed boxes hold p (empty slots never do).
+template <int N>
+unsigned children_holding(const WideNode<N>& node, const Vec3f& p) {
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+  if constexpr (N == 8) {
+    __mmask8 in = 0xFF;
+    for (int k = 0; k < 3; ++k) {
+      const __m256 x = _mm256_set1_ps(p[k]);
+      in = _mm256_mask_cmp_ps_mask(in, _mm256_loadu_ps(node.bounds[2 * k]), x, _CMP_LE_OQ);
+      in = _mm256_mask_cmp_ps_mask(in, x, _mm256_loadu_ps(node.bounds[2 * k + 1]), _CMP_LE_OQ);
+    }
+    return in;
+  }
+#endif
+  unsigned m = 0;
+  for (int i = 0; i < N; ++i)
+    m |=
+        unsigned(node.bounds[0][i] <= p.x && p.x <= node.bounds[1][i] && node.bounds[2][i] <= p.y &&
+                 p.y <= node.bounds[3][i] && node.bounds[4][i] <= p.z && p.z <= node.bounds[5][i])
+        << i;
+  return m;
+}
+
 // Calls leaf(range) for every leaf whose closed box holds p; stops when it
 // returns true.
 template <typename Leaf>
@@ -106,11 +129,8 @@ bool any_leaf_holding(const WideBvh<N>& bvh, const Vec3f& p, Leaf&& leaf) {
       if (leaf(cur.leaf_range())) return true;
       continue;
     }
-    const WideNode<N>& node = bvh.nodes[cur.index()];
-    for (int i = 0; i < N; ++i)
-      if (node.bounds[0][i] <= p.x && p.x <= node.bounds[1][i] && node.bounds[2][i] <= p.y &&
-          p.y <= node.bounds[3][i] && node.bounds[4][i] <= p.z && p.z <= node.bounds[5][i])
-        stack[sp++] = node.child[i].bits;
+    for (unsigned m = children_holding(bvh.nodes[cur.index()], p); m; m &= m - 1)
+      stack[sp++] = bvh.nodes[cur.index()].child[__builtin_ctz(m)].bits;
   }
   return false;
 }
@@ -136,17 +156,49 @@ inline void closest_in_leaf(const LeafTriangles& tris, const LeafRange& leaf, co
     }
   }
 }
+
+// Whether p lies exactly on a triangle of the leaf. With AVX-512 the
+// triangles' own boxes are tested 8 at a time first (on_triangle's first
+// test, the same comparisons), so the exact test runs only where p is in one.
+inline bool leaf_holds_point(const LeafTriangles& tris, const LeafRange& leaf, const Vec3f& p) {
+  const uint32_t end = leaf.first + leaf.count;
+#if defined(__AVX512F__) && defined(__AVX512VL__)
+  const float* rows = tris.vert_row(leaf.block_first, leaf.block_count, 0);
+  const size_t s = leaf.block_count;  // row stride
+  for (uint32_t base = leaf.first; base < end; base += 8) {
+    const __mmask8 lanes = __mmask8((1u << std::min(8u, end - base)) - 1u);
+    const float* r = rows + (base - leaf.block_first);
+    __mmask8 in = lanes;
+    for (int k = 0; k < 3; ++k) {
+      const __m256 a = _mm256_maskz_loadu_ps(lanes, r + k * s);
+      const __m256 b = _mm256_maskz_loadu_ps(lanes, r + (3 + k) * s);
+      const __m256 c = _mm256_maskz_loadu_ps(lanes, r + (6 + k) * s);
+      const __m256 x = _mm256_set1_ps(p[k]);
+      in = _mm256_mask_cmp_ps_mask(in, _mm256_min_ps(a, _mm256_min_ps(b, c)), x, _CMP_LE_OQ);
+      in = _mm256_mask_cmp_ps_mask(in, x, _mm256_max_ps(a, _mm256_max_ps(b, c)), _CMP_LE_OQ);
+    }
+    for (unsigned m = in; m; m &= m - 1) {
+      const TriangleVerts t = tris.triangle(leaf, base + uint32_t(__builtin_ctz(m)));
+      if (exact::on_triangle(t.v0, t.v1, t.v2, p)) return true;
+    }
+  }
+  return false;
+#else
+  for (uint32_t i = leaf.first; i < end; ++i) {
+    const TriangleVerts t = tris.triangle(leaf, i);
+    if (exact::on_triangle(t.v0, t.v1, t.v2, p)) return true;
+  }
+  return false;
+#endif
+}
+
 }  // namespace detail
 
 // Whether p lies exactly on a triangle of the tree.
 template <typename Bvh>
 bool point_on_surface(const Bvh& bvh, const Vec3f& p) {
   return detail::any_leaf_holding(bvh, p, [&](const LeafRange& leaf) {
-    for (uint32_t i = leaf.first; i < leaf.first + leaf.count; ++i) {
-      const TriangleVerts t = bvh.triangles.triangle(leaf, i);
-      if (exact::on_triangle(t.v0, t.v1, t.v2, p)) return true;
-    }
-    return false;
+    return detail::leaf_holds_point(bvh.triangles, leaf, p);
   });
 }
 
@@ -190,6 +242,57 @@ PointLocation locate_point(const Bvh& bvh, const Vec3f& p) {
         crossings += detail::crosses_ahead(bvh.triangles, leaf, i, p);
       },
       detail::kInsideLeafTnear);
+  return crossings % 2 ? PointLocation::kInside : PointLocation::kOutside;
+}
+
+// locate_point of a wide tree in one traversal instead of two: the ray's
+// (traverse_all's loop), whose stack entries also say whether the node's
+// closed box holds p. The triangles of the leaves that do are checked for p
+// on them, as point_on_surface checks them; every such leaf is reached, as a
+// node that holds p is pushed whether or not the ray's slab test enters it
+// (it does, at t = 0; a leaf entered for holding p alone adds no crossing
+// ahead of p, as a crossing ahead lies in the ray's path through its box).
+template <int N>
+PointLocation locate_point(const WideBvh<N>& bvh, const Vec3f& p) {
+  if (bvh.empty()) return PointLocation::kOutside;
+  const Ray ray = detail::inside_ray(p);
+  const WideSlabRay slab(ray);
+  const WatertightTest::Prepared prep = WatertightTest::prepare(ray, bvh.bounds);
+  struct Entry {
+    uint64_t bits;
+    bool holds;  // the node's closed box holds p
+  };
+  Entry stack[1 + (N - 1) * kMaxBuildDepth + N];
+  int sp = 0;
+  stack[sp++] = {bvh.root.bits, detail::box_holds(bvh.bounds.min, bvh.bounds.max, p)};
+  unsigned crossings = 0;
+  const auto count = [&](const LeafRange& leaf, uint32_t i, const TriangleHit&) {
+    crossings += detail::crosses_ahead(bvh.triangles, leaf, i, p);
+  };
+  while (sp > 0) {
+    const Entry e = stack[--sp];
+    const NodeRef cur{e.bits};
+    if (cur.is_leaf()) {
+      const LeafRange leaf = cur.leaf_range();
+      if (e.holds && detail::leaf_holds_point(bvh.triangles, leaf, p))
+        return PointLocation::kOnSurface;
+      detail::visit_leaf_hits<WatertightTest>(prep, bvh.triangles, leaf, detail::kInsideLeafTnear,
+                                              ray.tfar, count);
+      continue;
+    }
+    const WideNode<N>& node = bvh.nodes[cur.index()];
+    alignas(32) float dist[N];
+    const unsigned holds = e.holds ? detail::children_holding(node, p) : 0u;
+    for (unsigned m = slab_wide<N>(slab, node, ray.tnear, ray.tfar, dist) | holds; m; m &= m - 1) {
+      const int i = __builtin_ctz(m);
+      const NodeRef c = node.child[i];
+      if (c.is_leaf())
+        WatertightTest::prefetch(bvh.triangles, c.leaf_range());
+      else
+        detail::prefetch_node(&bvh.nodes[c.index()]);
+      stack[sp++] = {c.bits, ((holds >> i) & 1u) != 0};
+    }
+  }
   return crossings % 2 ? PointLocation::kInside : PointLocation::kOutside;
 }
 
