@@ -82,63 +82,75 @@ void trace_batch(const Bvh& bvh, const RayInput& input, Hit* hits, uint8_t* occl
   const bool interleave = interleaves(bvh);
   const size_t n = input.size();
   const size_t groups = (n + kRayGroup - 1) / kRayGroup;
-  tbb::parallel_for(tbb::blocked_range<size_t>(0, groups, kRaysPerTask / kRayGroup),
-                    [&](const tbb::blocked_range<size_t>& range) {
-                      alignas(64) Ray buf[kRayBlock];
-                      size_t run[kRayBlock];  // indices into the block
-                      for (size_t g0 = range.begin(); g0 < range.end(); g0 += kGroupsPerBlock) {
-                        const size_t g1 = std::min(range.end(), g0 + kGroupsPerBlock);
-                        const size_t base = g0 * kRayGroup;
-                        const size_t size = std::min(g1 * kRayGroup, n) - base;
-                        const Ray* rays = input.block(base, size, buf);
-                        // Only the array this query writes is offset (the others are null).
-                        Hit* const block_hits = hits ? hits + base : nullptr;
-                        uint8_t* const block_occluded = occluded ? occluded + base : nullptr;
-                        const HitColumnWriter block_columns =
-                            columns ? columns->from(base) : HitColumnWriter{};
-                        const HitColumnWriter* const cols = columns ? &block_columns : nullptr;
-                        size_t run_size = 0;
-                        for (size_t first = 0; first < size; first += kRayGroup) {
-                          const size_t count = std::min(kRayGroup, size - first);
+  tbb::parallel_for(
+      tbb::blocked_range<size_t>(0, groups, kRaysPerTask / kRayGroup),
+      [&](const tbb::blocked_range<size_t>& range) {
+        alignas(64) Ray buf[kRayBlock];
+        size_t run[kRayBlock];  // indices into the block
+        for (size_t g0 = range.begin(); g0 < range.end(); g0 += kGroupsPerBlock) {
+          const size_t g1 = std::min(range.end(), g0 + kGroupsPerBlock);
+          const size_t base = g0 * kRayGroup;
+          const size_t size = std::min(g1 * kRayGroup, n) - base;
+          const Ray* rays = input.block(base, size, buf);
+          // Only the array this query writes is offset (the others are null).
+          Hit* const block_hits = hits ? hits + base : nullptr;
+          uint8_t* const block_occluded = occluded ? occluded + base : nullptr;
+          const HitColumnWriter block_columns = columns ? columns->from(base) : HitColumnWriter{};
+          const HitColumnWriter* const cols = columns ? &block_columns : nullptr;
+          size_t run_size = 0;
+          for (size_t first = 0; first < size; first += kRayGroup) {
+            const size_t count = std::min(kRayGroup, size - first);
 #if defined(HPRT_HAS_PACKETS)  // packets need AVX-512 (traverse_packet.h)
-                          static_assert(kRayGroup == kPacketSize);
-                          const Ray* r = rays + first;
-                          if (count == kRayGroup && rays_coherent(r, kRayGroup, tolerance)) {
-                            if constexpr (kAnyHit)
-                              traverse_packet<Test, true>(bvh, r, nullptr, block_occluded + first);
-                            else if (cols) {
-                              const HitColumnWriter lanes = cols->from(first);
-                              traverse_packet<Test, false>(bvh, r, nullptr, nullptr, &lanes);
-                            } else {
-                              traverse_packet<Test, false>(bvh, r, block_hits + first, nullptr);
-                            }
-                            continue;
-                          }
+            static_assert(kRayGroup == kPacketSize);
+            const Ray* r = rays + first;
+            if (count == kRayGroup && rays_coherent(r, kRayGroup, tolerance)) {
+              if constexpr (kAnyHit)
+                traverse_packet<Test, true>(bvh, r, nullptr, block_occluded + first);
+              else if (cols) {
+                const HitColumnWriter lanes = cols->from(first);
+                traverse_packet<Test, false>(bvh, r, nullptr, nullptr, &lanes);
+              } else {
+                traverse_packet<Test, false>(bvh, r, block_hits + first, nullptr);
+              }
+              continue;
+            }
 #endif
-                          if (interleave) {
-                            for (size_t i = first; i < first + count; ++i) run[run_size++] = i;
-                            continue;
-                          }
-                          for (size_t i = first; i < first + count; ++i) {
-                            Hit h;
-                            ClosestHit answer;
-                            const bool found =
-                                ray_is_valid(rays[i]) &&
-                                trace_one<Test, kAnyHit>(bvh, rays[i], h, cols ? &answer : nullptr);
-                            if constexpr (kAnyHit)
-                              block_occluded[i] = found;
-                            else if (cols)
-                              cols->write(answer, i);
-                            else
-                              block_hits[i] = h;
-                          }
-                        }
-                        if constexpr (kWide)
-                          if (run_size)
-                            traverse_wide_interleaved<Test, kAnyHit>(
-                                bvh, rays, run, run_size, block_hits, block_occluded, cols);
-                      }
-                    });
+            if (interleave) {
+              for (size_t i = first; i < first + count; ++i) run[run_size++] = i;
+              continue;
+            }
+            if constexpr (kAnyHit) {
+              for (size_t i = first; i < first + count; ++i) {
+                Hit h;
+                block_occluded[i] = ray_is_valid(rays[i]) && trace_one<Test, true>(bvh, rays[i], h);
+              }
+            } else {
+              // The group's hit ids are read once all its rays
+              // are traced: the loads overlap, where each ray
+              // would otherwise end waiting for its own line.
+              ClosestHit answers[kRayGroup];
+              for (size_t k = 0; k < count; ++k) {
+                Hit unused;
+                if (ray_is_valid(rays[first + k]))
+                  trace_one<Test, false>(bvh, rays[first + k], unused, &answers[k]);
+              }
+              for (size_t k = 0; k < count; ++k) {
+                if (cols) {
+                  cols->write(answers[k], first + k);
+                } else {
+                  Hit h;
+                  if (answers[k].found) answers[k].store(bvh.triangles, h);
+                  block_hits[first + k] = h;
+                }
+              }
+            }
+          }
+          if constexpr (kWide)
+            if (run_size)
+              traverse_wide_interleaved<Test, kAnyHit>(bvh, rays, run, run_size, block_hits,
+                                                       block_occluded, cols);
+        }
+      });
 }
 
 template <typename Bvh>

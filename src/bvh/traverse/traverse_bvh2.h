@@ -27,9 +27,12 @@ inline const float* node_floats(const BinaryNode& n) { return &n.min.x; }
 // kAnyHit: return at the first hit in (tnear, tfar] (occlusion); `hit` is then
 // only meaningful as "something was hit". Otherwise `hit` gets the closest hit
 // (t, u, v, geomID, primID in input order) and the result says whether any was
-// found. The ray must be valid (ray_is_valid). A closest-hit traversal also
-// copies its answer, with the hit's leaf-order index, to `answer` if given
-// (left untouched when the ray misses the root box).
+// found. The ray must be valid (ray_is_valid). Given `answer`, a
+// closest-hit traversal copies its answer there, with the hit's leaf-order
+// index, instead of storing it in `hit`: the caller stores it
+// (ClosestHit::store) when it wants, e.g. after tracing more rays, so that
+// the loads of several rays' hit ids overlap. `answer` is left untouched
+// when the ray misses the root box.
 template <typename Test, bool kAnyHit, bool kStats = false>
 bool traverse(const Bvh2& bvh, const Ray& ray, Hit& hit, TraversalStats* stats = nullptr,
               ClosestHit* answer = nullptr) {
@@ -102,8 +105,10 @@ bool traverse(const Bvh2& bvh, const Ray& ray, Hit& hit, TraversalStats* stats =
     // Pop the next node that may still hold a closer hit.
     for (;;) {
       if (stack.empty()) {
-        if (closest.found) closest.store(tris, hit);
-        if (answer) *answer = closest;
+        if (answer)
+          *answer = closest;
+        else if (closest.found)
+          closest.store(tris, hit);
         return closest.found;
       }
       const StackEntry e = stack.pop();

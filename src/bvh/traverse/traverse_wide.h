@@ -124,8 +124,10 @@ bool traverse_wide(const WideBvh<N>& bvh, const Ray& ray, Hit& hit, TraversalSta
   ClosestHit closest;
   traverse_wide_from<Test, kAnyHit, N, kStats>(bvh, bvh.root, slab, prep, ray.tnear, tfar, closest,
                                                stats);
-  if (closest.found) closest.store(bvh.triangles, hit);
-  if (answer) *answer = closest;
+  if (answer)
+    *answer = closest;
+  else if (closest.found)
+    closest.store(bvh.triangles, hit);
   return closest.found;
 }
 
