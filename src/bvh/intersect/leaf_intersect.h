@@ -5,7 +5,12 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
+
+#if defined(__AVX512F__)
+#include <immintrin.h>
+#endif
 
 #include "bvh/intersect/ray_triangle.h"
 #include "bvh/intersect/ray_triangle_lanes.h"
@@ -89,6 +94,30 @@ struct HitColumnWriter {
   }
   // The same batch with its rays from `first` on: a packet's (traverse_packet.h).
   HitColumnWriter from(size_t first) const { return {out.from(first), tris, table}; }
+
+#if defined(__AVX512F__)
+  // write() for rays 0..16, a packet's answers (traverse_packet.h): every
+  // column's 16 entries set to a miss's with one vector store each, then the
+  // lanes that hit written over them. Ray by ray, a camera packet's misses
+  // cost more in write()'s scalar stores and checks than its traversal did.
+  HPRT_FORCE_INLINE void write_packet(const ClosestHit* closest) const {
+    unsigned found = 0;
+    for (int l = 0; l < 16; ++l) found |= unsigned(closest[l].found) << l;
+    const __m512 zero = _mm512_setzero_ps();
+    if (out.t) _mm512_storeu_ps(out.t, _mm512_set1_ps(std::numeric_limits<float>::infinity()));
+    const __m512i none = _mm512_set1_epi32(int(kInvalidId));
+    if (out.geom_id) _mm512_storeu_si512(out.geom_id, none);
+    if (out.prim_id) _mm512_storeu_si512(out.prim_id, none);
+    if (out.uv)
+      for (int k = 0; k < 2; ++k) _mm512_storeu_ps(out.uv + 16 * k, zero);
+    if (out.normal)
+      for (int k = 0; k < 3; ++k) _mm512_storeu_ps(out.normal + 16 * k, zero);
+    for (unsigned m = found; m; m &= m - 1) {
+      const int l = __builtin_ctz(m);
+      write(closest[l], size_t(l));
+    }
+  }
+#endif
 };
 
 #if defined(__AVX512F__) && defined(__AVX512VL__)

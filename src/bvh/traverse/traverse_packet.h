@@ -218,11 +218,14 @@ void traverse_packet(const Bvh& bvh, const Ray* rays, Hit* hits, uint8_t* occlud
     if (!active) break;
     cur = NodeRef{stack[sp].ref};
   }
+  if constexpr (!kAnyHit)
+    if (columns) {
+      columns->write_packet(closest);
+      return;
+    }
   for (int l = 0; l < kPacketSize; ++l) {
     if constexpr (kAnyHit) {
       occluded[l] = (done >> l) & 1;
-    } else if (columns) {
-      columns->write(closest[l], size_t(l));
     } else {
       hits[l] = Hit{};
       if (closest[l].found) closest[l].store(tris, hits[l]);
