@@ -66,6 +66,37 @@ bool interleaves(const Bvh& bvh) {
     return !bvh.empty() && bvh.memory_bytes() >= kInterleaveMinBytes;
 }
 
+// Rays [first, first + count) of a block one by one: any hit into
+// occluded[i]; closest hits into hits[i], or `cols` when given. The hit ids
+// of the group's closest hits are read once all its rays are traced, so the
+// loads overlap, where each ray would otherwise end waiting for its own line.
+template <typename Test, bool kAnyHit, typename Bvh>
+void trace_singly(const Bvh& bvh, const Ray* rays, size_t first, size_t count, Hit* hits,
+                  uint8_t* occluded, const HitColumnWriter* cols) {
+  if constexpr (kAnyHit) {
+    for (size_t i = first; i < first + count; ++i) {
+      Hit h;
+      occluded[i] = ray_is_valid(rays[i]) && trace_one<Test, true>(bvh, rays[i], h);
+    }
+  } else {
+    ClosestHit answers[kRayGroup];
+    for (size_t k = 0; k < count; ++k) {
+      Hit unused;
+      if (ray_is_valid(rays[first + k]))
+        trace_one<Test, false>(bvh, rays[first + k], unused, &answers[k]);
+    }
+    for (size_t k = 0; k < count; ++k) {
+      if (cols) {
+        cols->write(answers[k], first + k);
+      } else {
+        Hit h;
+        if (answers[k].found) answers[k].store(bvh.triangles, h);
+        hits[first + k] = h;
+      }
+    }
+  }
+}
+
 // kAnyHit writes `occluded`, otherwise `hits`, or `columns` instead when
 // given (Intersector::intersect_columns). Each task takes its rays in blocks
 // of kRayBlock (RayInput::block: six-float rays are converted there, into a
@@ -119,31 +150,7 @@ void trace_batch(const Bvh& bvh, const RayInput& input, Hit* hits, uint8_t* occl
               for (size_t i = first; i < first + count; ++i) run[run_size++] = i;
               continue;
             }
-            if constexpr (kAnyHit) {
-              for (size_t i = first; i < first + count; ++i) {
-                Hit h;
-                block_occluded[i] = ray_is_valid(rays[i]) && trace_one<Test, true>(bvh, rays[i], h);
-              }
-            } else {
-              // The group's hit ids are read once all its rays
-              // are traced: the loads overlap, where each ray
-              // would otherwise end waiting for its own line.
-              ClosestHit answers[kRayGroup];
-              for (size_t k = 0; k < count; ++k) {
-                Hit unused;
-                if (ray_is_valid(rays[first + k]))
-                  trace_one<Test, false>(bvh, rays[first + k], unused, &answers[k]);
-              }
-              for (size_t k = 0; k < count; ++k) {
-                if (cols) {
-                  cols->write(answers[k], first + k);
-                } else {
-                  Hit h;
-                  if (answers[k].found) answers[k].store(bvh.triangles, h);
-                  block_hits[first + k] = h;
-                }
-              }
-            }
+            trace_singly<Test, kAnyHit>(bvh, rays, first, count, block_hits, block_occluded, cols);
           }
           if constexpr (kWide)
             if (run_size)
