@@ -22,8 +22,8 @@ inline constexpr float kCoherentOriginFraction = 0.05f;
 
 #if defined(__AVX512F__)
 // rays_coherent for a group of 16 (both backends' packet size): the same
-// tests with one ray per lane, so that a batch of camera rays does not spend
-// a fifth of its time on 16 scalar square roots and 48 divisions per packet.
+// tests with one ray per lane, instead of 16 scalar square roots and 48
+// divisions per group, which camera-ray batches would spend much time on.
 inline bool rays_coherent16(const Ray* r, float max_origin_offset) {
   __m512 c[8];
   load_ray_fields16(r, c);

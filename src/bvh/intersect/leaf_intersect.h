@@ -98,8 +98,8 @@ struct HitColumnWriter {
 #if defined(__AVX512F__)
   // write() for rays 0..16, a packet's answers (traverse_packet.h): every
   // column's 16 entries set to a miss's with one vector store each, then the
-  // lanes that hit written over them. Ray by ray, a camera packet's misses
-  // cost more in write()'s scalar stores and checks than its traversal did.
+  // lanes that hit written over them: misses, most lanes of a camera
+  // packet, then cost no scalar stores and per-column checks.
   HPRT_FORCE_INLINE void write_packet(const ClosestHit* closest) const {
     unsigned found = 0;
     for (int l = 0; l < 16; ++l) found |= unsigned(closest[l].found) << l;
