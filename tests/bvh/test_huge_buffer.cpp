@@ -1,11 +1,14 @@
 // Tests of the large build arrays: BuildArray::reset / shrink keep storage,
-// and the buffer cache behind make_huge_buffer caches only while a
-// HugeBufferRetention lives, hands a cached buffer to a request of a close
-// size only, and empties when the last retention goes.
+// fresh large buffers are advised as huge pages, and the buffer cache behind make_huge_buffer
+// caches only while a HugeBufferRetention lives, hands a cached buffer to a request of a close size
+// only, and empties when the last retention goes.
 #include <gtest/gtest.h>
 
 #include <atomic>
 #include <cstdint>
+#include <fstream>
+#include <sstream>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -29,6 +32,38 @@ TEST(BuildArray, ResetKeepsTheStorageOfTheSameSizeOnly) {
   a.reset(0);
   EXPECT_TRUE(a.empty());
   EXPECT_EQ(a.data(), nullptr);
+}
+
+// The VmFlags of the mapping of /proc/self/smaps that holds address p ("" if none).
+std::string vm_flags_at(const void* p) {
+  std::ifstream smaps("/proc/self/smaps");
+  const auto a = reinterpret_cast<uintptr_t>(p);
+  std::string line;
+  bool inside = false;
+  while (std::getline(smaps, line)) {
+    uintptr_t lo = 0, hi = 0;
+    char dash = 0;
+    std::istringstream head(line);
+    if (head >> std::hex >> lo >> dash >> hi && dash == '-') {
+      inside = lo <= a && a < hi;
+    } else if (inside && line.rfind("VmFlags:", 0) == 0) {
+      return line;
+    }
+  }
+  return "";
+}
+
+TEST(HugeBuffer, FreshLargeBuffersAreAdvisedAsHugePages) {
+#if !defined(__linux__) || !defined(MADV_HUGEPAGE)
+  GTEST_SKIP() << "no transparent huge pages here";
+#else
+  if (!huge_pages_enabled()) GTEST_SKIP() << "HPRT_HUGE_PAGES=0 in the environment";
+  auto b = make_huge_buffer<uint8_t>(8 * kMiB);
+  // Its whole 2 MiB pages: "hg" (VM_HUGEPAGE) in the mapping's flags.
+  const std::string flags = vm_flags_at(b.get() + kHugePage);
+  ASSERT_FALSE(flags.empty());
+  EXPECT_NE(flags.find(" hg"), std::string::npos) << flags;
+#endif
 }
 
 TEST(BuildArray, ShrinkKeepsThePrefix) {

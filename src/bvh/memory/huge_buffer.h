@@ -1,15 +1,17 @@
 // Uninitialised arrays for one build (trivial types only). Large ones are
-// 2 MiB aligned. While a HugeBufferRetention lives (a backend that rebuilds
-// every frame holds one), freed large buffers are kept in a small
-// process-wide cache and handed out again (huge_buffer_cache.cpp): a
-// deforming mesh rebuilt every frame asks for arrays of about the same sizes
-// each time, and a cached buffer's pages are faulted in already, where a
-// fresh one's are faulted and zeroed by the kernel, a sizeable part of a fast
-// rebuild. Only those retained buffers are advised as transparent huge pages
-// (fewer TLB misses when the tree is read at random): on a virtual machine
-// that hands free memory back to its host, the first touch of a fresh 2 MiB
-// page waits for the host, and a one-off build in huge pages took about twice
-// as long as in 4 KiB pages (docs/BENCHMARKS.md, machines).
+// 2 MiB aligned and advised as transparent huge pages, as Embree advises its
+// own build memory: on the AMD VMs a fresh 4 KiB page costs about 11 us to
+// fault in, so a cold process's first build of a 1M-triangle mesh (some
+// 200 MB of fresh arrays) spent more time faulting than building; in 2 MiB
+// pages the faults are 512 times fewer, and a tree read at random takes
+// fewer TLB misses. Where a host is slow to back a fresh 2 MiB page (the
+// Intel VMs were: docs/BENCHMARKS.md, machines), HPRT_HUGE_PAGES=0 in the
+// environment turns the advice off for the whole process. While a
+// HugeBufferRetention lives (a backend that rebuilds every frame holds
+// one), freed large buffers are kept in a small process-wide cache and
+// handed out again (huge_buffer_cache.cpp): a deforming mesh rebuilt every
+// frame asks for arrays of about the same sizes each time, and a cached
+// buffer's pages are faulted in already.
 #pragma once
 
 #include <cstddef>
@@ -27,10 +29,21 @@ namespace hprt {
 
 inline constexpr size_t kHugePage = size_t{2} << 20;
 
+// False when the environment sets HPRT_HUGE_PAGES=0 (read once).
+inline bool huge_pages_enabled() {
+  static const bool enabled = [] {
+    const char* v = std::getenv("HPRT_HUGE_PAGES");
+    return !(v && v[0] == '0' && v[1] == '\0');
+  }();
+  return enabled;
+}
+
 // Advises the whole 2 MiB pages inside [p, p + bytes) as huge pages (advice
-// only: failure or no support is harmless). Call before the first touch.
+// only: failure or no support is harmless), unless huge_pages_enabled() is
+// false. Call before the first touch.
 inline void advise_huge_pages(void* p, size_t bytes) {
 #if defined(__linux__) && defined(MADV_HUGEPAGE)
+  if (!huge_pages_enabled()) return;
   const uintptr_t b = (reinterpret_cast<uintptr_t>(p) + kHugePage - 1) & ~(kHugePage - 1);
   const uintptr_t e = (reinterpret_cast<uintptr_t>(p) + bytes) & ~(kHugePage - 1);
   if (e > b) madvise(reinterpret_cast<void*>(b), e - b, MADV_HUGEPAGE);
@@ -50,7 +63,7 @@ class BufferCache {
   struct Limits {
     size_t max_buffers = 32;
     size_t max_bytes = size_t{2} << 30;
-    // Advise buffers made while retained as transparent huge pages.
+    // Advise fresh buffers as transparent huge pages (advise_huge_pages).
     bool advise_huge_pages = true;
   };
   explicit BufferCache(Limits limits);
@@ -82,7 +95,7 @@ class BufferCache {
 BufferCache& build_buffer_cache();
 
 // From build_buffer_cache(): a cached buffer of a close capacity, else a
-// fresh one (huge-page advised while retaining). Give it back with
+// fresh one (huge-page advised). Give it back with
 // release_huge_buffer.
 inline void* acquire_huge_buffer(size_t bytes) { return build_buffer_cache().acquire(bytes); }
 inline void release_huge_buffer(void* p) noexcept { build_buffer_cache().release(p); }
@@ -128,7 +141,7 @@ HugeBuffer<T> make_huge_buffer(size_t n) {
 // (cache-line) aligned storage; arrays of 2 MiB or more come from the buffer
 // cache above, like the triangle arrays (BuildArray): reused across rebuilds
 // (from malloc, each rebuild's were fresh pages whenever glibc served them by
-// mmap), and in huge pages while retained.
+// mmap), and in huge pages.
 template <typename T>
 struct CacheAlignedAllocator {
   using value_type = T;

@@ -105,14 +105,12 @@ void* BufferCache::acquire(size_t bytes) {
   // never touched are never faulted in): arrays that grow a little from one
   // rebuild to the next (an exploding mesh's node count) still fit it later.
   // The slack is dropped where the buffer could not serve its own size again
-  // (2 MiB asked, 4 MiB held). Only retained buffers are advised as huge
-  // pages (see huge_buffer.h): their pages are faulted once for many
-  // rebuilds, where a one-off build's would be faulted for one.
+  // (2 MiB asked, 4 MiB held).
   size_t capacity = retaining ? (need + need / 8 + kHugePage - 1) / kHugePage * kHugePage : need;
   if (!serves(capacity, need)) capacity = need;
   void* p = std::aligned_alloc(kHugePage, capacity);
   if (!p) throw std::bad_alloc();
-  if (retaining && limits_.advise_huge_pages) advise_huge_pages(p, capacity);
+  if (limits_.advise_huge_pages) advise_huge_pages(p, capacity);
   try {
     const std::lock_guard lock(c.mutex);
     c.out[p] = capacity;
