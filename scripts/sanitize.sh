@@ -86,9 +86,11 @@ if [[ $do_tsan == 1 ]]; then
   # below still run every parallel path (parallel binning/partition/stitching,
   # the Morton radix sort and subtree tasks, tree statistics, parallel refit,
   # tile scheduler, concurrent callers, the build-buffer cache's mutex under
-  # std::threads, signal handling); the rest run in the Release and ASan passes.
+  # std::threads, the backends' lock-free query clock, signal handling); the
+  # rest run in the Release and ASan passes.
   run=(
     "BuilderParallel.*" "BuilderMorton.*" "TreeStats.*" "BuildArray.*" "HugeBufferCache.*"
+    "BusyClock.*"
     Refit.DeterministicForAnyThreadCount Refit.EmptyAndSingleLeafTrees
     Refit.ReportsATriangleThatBecameInvalid
     BvhBackend.InfoReportsTheBuild BvhBackend.EmptySceneAndInvalidRaysMiss
