@@ -40,8 +40,11 @@ namespace {
 // The collapse plan: per binary inner node n and slot budget i (1..N), the
 // least cost and how it is reached: left_slots = 0 means n takes one slot
 // itself (a wide node of its own), k > 0 that n is opened and its left
-// child's forest gets k slots, the right child's i - k. A leaf always takes
-// one slot at no cost; its entries are never written nor read.
+// child's forest gets k slots, the right child's i - k. With one slot n is
+// always a slot of its own, so entry i = 1 holds instead how the N slots of
+// the wide node made from n split between its children (root_left_slots):
+// the walk then reads no costs. A leaf always takes one slot at no cost;
+// its entries are never written nor read.
 template <int N>
 struct CollapsePlan {
   const BuildTree& tree;
@@ -53,7 +56,7 @@ struct CollapsePlan {
     return tree.nodes[b].is_leaf() ? kLeaf : &cost[size_t(b) * N];
   }
   int left_slots_of(uint32_t b, int i) const {
-    return tree.nodes[b].is_leaf() ? 0 : left_slots[size_t(b) * N + i - 1];
+    return i == 1 || tree.nodes[b].is_leaf() ? 0 : left_slots[size_t(b) * N + i - 1];
   }
 
   // The build tree is in preorder (build_tree.h): subtree b is the index
@@ -102,11 +105,10 @@ struct CollapsePlan {
     float* c = &cost[b * N];
     uint8_t* k = &left_slots[b * N];
     c[0] = node.bounds.half_area();
-    k[0] = 0;
     if (tree.nodes[b + 1].is_leaf() && tree.nodes[node.right].is_leaf()) {
       // Two leaves: a wide node of its own costs its area, opening nothing.
-      for (int i = 2; i <= N; ++i) {
-        c[i - 1] = 0.0f;
+      for (int i = 1; i <= N; ++i) {
+        if (i > 1) c[i - 1] = 0.0f;
         k[i - 1] = 1;
       }
       return;
@@ -130,6 +132,7 @@ struct CollapsePlan {
     // As a wide node of its own, n costs its area plus its best N-slot
     // forest; with more slots the plan opens n where that is cheaper.
     c[0] += open[N - 1];
+    k[0] = open_k[N - 1];
     for (int i = 2; i <= N; ++i) {
       const bool opened = open[i - 1] < c[0];
       c[i - 1] = opened ? open[i - 1] : c[0];
@@ -138,15 +141,9 @@ struct CollapsePlan {
   }
 
   // How the N slots of the wide node made from inner node b split between
-  // its children.
-  int root_left_slots(uint32_t b) const {
-    const float* l = costs_of(b + 1);
-    const float* r = costs_of(tree.nodes[b].right);
-    int best = 1;
-    for (int j = 2; j < N; ++j)
-      if (l[j - 1] + r[N - j - 1] < l[best - 1] + r[N - best - 1]) best = j;
-    return best;
-  }
+  // its children: the lowest k of the least l[k - 1] + r[N - k - 1], as
+  // solve found it.
+  int root_left_slots(uint32_t b) const { return left_slots[size_t(b) * N]; }
 };
 
 struct Filler {
