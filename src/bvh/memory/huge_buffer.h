@@ -1,17 +1,17 @@
 // Uninitialised arrays for one build (trivial types only). Large ones are
 // 2 MiB aligned and advised as transparent huge pages, as Embree advises its
-// own build memory: on the AMD VMs a fresh 4 KiB page costs about 11 us to
-// fault in, so a cold process's first build of a 1M-triangle mesh (some
-// 200 MB of fresh arrays) spent more time faulting than building; in 2 MiB
-// pages the faults are 512 times fewer, and a tree read at random takes
-// fewer TLB misses. Where a host is slow to back a fresh 2 MiB page (the
-// Intel VMs were: docs/BENCHMARKS.md, machines), HPRT_HUGE_PAGES=0 in the
-// environment turns the advice off for the whole process. While a
-// HugeBufferRetention lives (a backend that rebuilds every frame holds
-// one), freed large buffers are kept in a small process-wide cache and
-// handed out again (huge_buffer_cache.cpp): a deforming mesh rebuilt every
-// frame asks for arrays of about the same sizes each time, and a cached
-// buffer's pages are faulted in already.
+// own build memory: on virtual machines whose host backs memory lazily a
+// fresh 4 KiB page is slow to fault in, and a cold process's first build
+// touches a few hundred bytes per triangle of fresh arrays; in 2 MiB pages
+// the faults are 512 times fewer, and a tree read at random takes fewer TLB
+// misses. Where a host is slow to back a fresh 2 MiB page instead
+// (docs/BENCHMARKS.md, machines), HPRT_HUGE_PAGES=0 in the environment turns
+// the advice off for the whole process. While a HugeBufferRetention lives
+// (a backend that rebuilds every frame holds one), freed large buffers are
+// kept in a small process-wide cache and handed out again
+// (huge_buffer_cache.cpp): a deforming mesh rebuilt every frame asks for
+// arrays of about the same sizes each time, and a cached buffer's pages are
+// faulted in already.
 #pragma once
 
 #include <cstddef>
