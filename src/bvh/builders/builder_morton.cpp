@@ -11,10 +11,10 @@
 // SAH options are checked, not used. Ranges of at least parallel_cutoff
 // primitives build their halves as parallel tasks, so the tree is the same
 // for any thread count.
+#include <immintrin.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
-#include <xmmintrin.h>
 
 #include <algorithm>
 #include <bit>
@@ -35,14 +35,19 @@ constexpr int kRadixBits = 10;
 constexpr uint32_t kRadix = 1u << kRadixBits;
 constexpr int kCodeShift = 32;  // key = code << 32 | PrimInfo index
 
-// The 10 low bits of v spread to every third bit.
+// The 10 low bits of v spread to every third bit (one pdep where BMI2 is
+// there: a dozen dependent shifts and masks otherwise).
 uint32_t spread_bits(uint32_t v) {
+#if defined(__BMI2__)
+  return _pdep_u32(v, 0x09249249u);
+#else
   v &= 0x3ffu;
   v = (v | (v << 16)) & 0x030000ffu;
   v = (v | (v << 8)) & 0x0300f00fu;
   v = (v | (v << 4)) & 0x030c30c3u;
   v = (v | (v << 2)) & 0x09249249u;
   return v;
+#endif
 }
 
 // Grid cell 0..1023 of v along one axis; in double so that a tiny extent
@@ -53,7 +58,7 @@ struct AxisQuantizer {
       : lo(min), scale(max > min ? double(kRadix) / (double(max) - double(min)) : 0.0) {}
   uint32_t cell(float v) const {
     const double f = (double(v) - lo) * scale;
-    return f > 0.0 ? static_cast<uint32_t>(std::min(f, double(kRadix - 1))) : 0u;
+    return static_cast<uint32_t>(std::clamp(f, 0.0, double(kRadix - 1)));  // no branch
   }
 };
 
@@ -82,34 +87,37 @@ void radix_pass(const uint64_t* src, uint64_t* dst, size_t n, int shift) {
 }
 
 // Two parallel passes over the split structure, so each node is written once,
-// straight into its place in the canonical preorder (no scratch array, whose
-// fresh pages cost more than the nodes, and no copy): plan() splits the
-// ranges of at least parallel_cutoff primitives as parallel tasks and counts
-// the nodes of each smaller range's subtree (splits only, no boxes); place()
-// then emits every small range's subtree at its offset, in parallel, and
-// bounds the planned nodes above them from their children. The splits of a
-// range depend only on the sorted codes and its depth, so both passes see the
-// same tree, whatever the thread count.
+// straight into its place in the canonical preorder (no scratch array of
+// nodes, whose fresh pages cost more than the nodes, and no copy): plan()
+// splits the ranges of at least parallel_cutoff primitives as parallel tasks
+// and, for each smaller range, finds its subtree's splits (no boxes), keeps
+// them (4 bytes per inner node) and counts its nodes; place() then emits
+// every small range's subtree at its offset from the kept splits, in
+// parallel, and bounds the planned nodes above them from their children. The
+// splits of a range depend only on the sorted codes and its depth, so the
+// tree is the same whatever the thread count.
 class MortonBuilder {
  public:
   struct Plan {
     size_t begin = 0, end = 0;
-    int depth = 0;
     size_t total = 0;                   // nodes of the subtree
     std::unique_ptr<Plan> left, right;  // none: emitted sequentially by place()
   };
 
-  MortonBuilder(const BuildOptions& o, const uint64_t* keys, size_t n, const AABB* boxes)
-      : o_(o), keys_(keys), n_(n), boxes_(boxes) {}
+  // `splits`: room for n entries; the subtree of a range [b, e) built
+  // sequentially keeps its splits at splits[b, e).
+  MortonBuilder(const BuildOptions& o, const uint64_t* keys, size_t n, const AABB* boxes,
+                uint32_t* splits)
+      : o_(o), keys_(keys), n_(n), boxes_(boxes), splits_(splits) {}
 
   std::unique_ptr<Plan> plan(size_t begin, size_t end, int depth) const {
     auto p = std::make_unique<Plan>();
     p->begin = begin;
     p->end = end;
-    p->depth = depth;
     const size_t n = end - begin;
     if (n < static_cast<size_t>(o_.parallel_cutoff) || is_leaf(n)) {
-      p->total = count(begin, end, depth);
+      uint32_t* cursor = splits_ + begin;
+      p->total = count(begin, end, depth, cursor);
       return p;
     }
     const size_t mid = split(begin, end, depth);
@@ -123,7 +131,8 @@ class MortonBuilder {
   void place(const Plan& p, size_t offset, BuildNode* out) const {
     if (!p.left) {
       size_t next = offset;
-      emit(p.begin, p.end, p.depth, out, next);
+      const uint32_t* cursor = splits_ + p.begin;
+      emit(p.begin, p.end, out, next, cursor);
       return;
     }
     const size_t right = offset + 1 + p.left->total;
@@ -140,16 +149,20 @@ class MortonBuilder {
   uint32_t code(size_t i) const { return uint32_t(keys_[i] >> kCodeShift); }
   const AABB& box(size_t i) const { return boxes_[uint32_t(keys_[i])]; }
 
-  // Nodes of the subtree of [begin, end).
-  size_t count(size_t begin, size_t end, int depth) const {
+  // Nodes of the subtree of [begin, end); its inner nodes' splits go to
+  // cursor[0...] in preorder (fewer than end - begin of them).
+  size_t count(size_t begin, size_t end, int depth, uint32_t*& cursor) const {
     if (is_leaf(end - begin)) return 1;
     const size_t mid = split(begin, end, depth);
-    return 1 + count(begin, mid, depth + 1) + count(mid, end, depth + 1);
+    *cursor++ = static_cast<uint32_t>(mid);
+    const size_t left = count(begin, mid, depth + 1, cursor);
+    return 1 + left + count(mid, end, depth + 1, cursor);
   }
 
   // Sequential subtree of [begin, end) written in preorder at out[next...]
-  // (right children are indices into `out`); returns its bounds.
-  AABB emit(size_t begin, size_t end, int depth, BuildNode* out, size_t& next) const {
+  // (right children are indices into `out`), its splits read from count()'s
+  // record; returns its bounds.
+  AABB emit(size_t begin, size_t end, BuildNode* out, size_t& next, const uint32_t*& cursor) const {
     const size_t self = next++;
     if (is_leaf(end - begin)) {
       AABB box;
@@ -163,10 +176,10 @@ class MortonBuilder {
       out[self] = make_leaf(box, begin, end - begin);
       return box;
     }
-    const size_t mid = split(begin, end, depth);
-    AABB box = emit(begin, mid, depth + 1, out, next);
+    const size_t mid = *cursor++;
+    AABB box = emit(begin, mid, out, next, cursor);
     const uint32_t right = static_cast<uint32_t>(next);
-    box.extend(emit(mid, end, depth + 1, out, next));
+    box.extend(emit(mid, end, out, next, cursor));
     out[self] = make_inner(box);
     out[self].right = right;
     return box;
@@ -179,13 +192,16 @@ class MortonBuilder {
       return begin + (end - begin) / 2;
     // Above the highest differing bit all codes of the range agree, so that
     // bit is 0 then 1 along the sorted range.
+    // Branch-free binary search for the first code with the bit set: code(lo)
+    // has it clear, code(lo + n) set (or lo + n == end).
     const uint32_t bit = 1u << (31 - std::countl_zero(first ^ last));
-    size_t lo = begin, hi = end - 1;  // code(lo) has the bit clear, code(hi) set
-    while (hi - lo > 1) {
-      const size_t mid = lo + (hi - lo) / 2;
-      (code(mid) & bit ? hi : lo) = mid;
+    size_t lo = begin, n = end - begin;
+    while (n > 1) {
+      const size_t half = n / 2;
+      lo += (code(lo + half) & bit) ? 0 : half;
+      n -= half;
     }
-    return hi;
+    return lo + 1;
   }
 
   static constexpr size_t kPrefetchAhead = 16;
@@ -193,6 +209,7 @@ class MortonBuilder {
   const uint64_t* keys_;  // sorted
   size_t n_;
   const AABB* boxes_;  // PrimInfo::bounds, indexed by a key's low 32 bits
+  uint32_t* splits_;   // see the constructor
 };
 
 }  // namespace
@@ -209,7 +226,7 @@ BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options) {
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, n, kChunk), [&](const tbb::blocked_range<size_t>& r) {
         for (size_t i = r.begin(); i != r.end(); ++i) {
-          const Vec3f& c = prims.centroids[i];
+          const Vec3f c = prims.bounds[i].center();  // make_prim_info's centroid, bit for bit
           const uint32_t code = spread_bits(qx.cell(c.x)) << 2 | spread_bits(qy.cell(c.y)) << 1 |
                                 spread_bits(qz.cell(c.z));
           keys[i] = uint64_t(code) << kCodeShift | i;
@@ -229,7 +246,8 @@ BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options) {
                       for (size_t i = r.begin(); i != r.end(); ++i)
                         tree.prim_order[i] = static_cast<uint32_t>(sorted[i]);
                     });
-  const MortonBuilder builder(options, sorted, n, prims.bounds.data());
+  const auto splits = make_huge_buffer<uint32_t>(n);
+  const MortonBuilder builder(options, sorted, n, prims.bounds.data(), splits.get());
   const auto plan = builder.plan(0, n, 1);
   // First touched by the placing tasks (as place_parts does).
   tree.nodes.reserve(plan->total);

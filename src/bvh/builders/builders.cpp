@@ -8,8 +8,7 @@
 namespace hprt {
 
 bool builder_reads_centroids(BuilderKind builder) {
-  return builder == BuilderKind::kSweep || builder == BuilderKind::kPresorted ||
-         builder == BuilderKind::kMorton;
+  return builder == BuilderKind::kSweep || builder == BuilderKind::kPresorted;
 }
 
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options) {

@@ -20,8 +20,8 @@ BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
 // was made without them.
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
 
-// Whether the builder reads PrimInfo::centroids (sweep, presorted, Morton);
-// the binned and parallel builders take centres from their box references.
+// Whether the builder reads PrimInfo::centroids (sweep, presorted); the
+// binned, parallel and Morton builders take centres from the boxes.
 bool builder_reads_centroids(BuilderKind builder);
 
 // Statistics and the 64-bit tree hash of docs/ARCHITECTURE.md (tree_stats.cpp).
