@@ -1,6 +1,10 @@
 // Tests of make_prim_info: valid triangles only, refs, boxes, centroids, bounds.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <cstring>
+#include <limits>
+#include <random>
 #include <stdexcept>
 #include <vector>
 
@@ -125,6 +129,81 @@ TEST(PrimInfo, EmptyScene) {
   EXPECT_EQ(p.size(), 0u);
   EXPECT_EQ(p.invalid, 0u);
   EXPECT_TRUE(p.scene_bounds.empty());
+}
+
+// The fill (16 triangles at a time where AVX-512 is there) against the
+// definition, one triangle at a time, bit for bit: triangle_valid, then the
+// box of three extends and its centre. The mesh mixes signed zeros,
+// subnormals, huge and tiny coordinates, NaN and infinite vertices, indices
+// out of range, repeated and collinear vertices and nearly degenerate
+// triangles (nonzero area only in the double products), at positions that
+// spoil some 16-triangle groups and leave others whole.
+TEST(PrimInfo, FillMatchesTheOneTriangleDefinitionBitForBit) {
+  std::mt19937 rng(11);
+  const float specials[] = {0.0f, -0.0f, 1e-45f, -1e-45f, 1e-38f, 3.4e38f,     -3.4e38f,
+                            1.0f, -1.0f, 0.5f,   1e-7f,   1e7f,   16777216.0f, 1.0e-3f};
+  TriangleMesh m;
+  std::vector<Vec3f> pos;
+  std::uniform_int_distribution<int> pick(0, 13), kind(0, 9);
+  std::uniform_real_distribution<float> uni(-2.0f, 2.0f);
+  for (int v = 0; v < 3000; ++v) {
+    const auto c = [&] { return kind(rng) < 3 ? specials[pick(rng)] : uni(rng); };
+    pos.push_back({c(), c(), c()});
+  }
+  pos[17] = {std::numeric_limits<float>::quiet_NaN(), 0, 0};
+  pos[99] = {0, std::numeric_limits<float>::infinity(), 0};
+  m.positions = pos;
+  std::vector<Vec3u> tris;
+  std::uniform_int_distribution<uint32_t> vert(0, 2999);
+  for (uint32_t t = 0; t < 40000; ++t) {
+    Vec3u tri{vert(rng), vert(rng), vert(rng)};
+    const int k = kind(rng);
+    if (t % 997 == 5 && k < 3) tri[k] = 3000 + t;  // out of range
+    if (t % 211 == 7) tri[1] = tri[0];             // repeated vertex
+    if (t % 401 == 3) tri[2] = 17;                 // NaN vertex
+    if (t % 389 == 4) tri[0] = 99;                 // infinite vertex
+    tris.push_back(tri);
+  }
+  // Nearly degenerate: the products of the edge components differ only in
+  // double (c is a + (b - a) * (1 + 2^-23) in one coordinate).
+  const uint32_t base = static_cast<uint32_t>(pos.size());
+  for (int k = 0; k < 64; ++k) {
+    const Vec3f a{1.0f + k, 2.0f, 3.0f}, b{2.0f + k, 4.0f, 6.0f};
+    const Vec3f c{3.0f + k, 6.0f, k % 2 ? 9.0f : std::nextafter(9.0f, 10.0f)};
+    pos.push_back(a), pos.push_back(b), pos.push_back(c);
+    tris.push_back({base + 3u * k, base + 3u * k + 1, base + 3u * k + 2});
+  }
+  m.positions = pos;
+  m.triangles = tris;
+  Scene s;
+  s.add_mesh(m);
+  s.add_mesh(grid(40, 40));
+  for (bool centroids : {true, false}) {
+    const PrimInfo p = run_with_threads(2, [&] { return make_prim_info(s, centroids); });
+    size_t w = 0, invalid = 0;
+    for (uint32_t g = 0; g < s.meshes.size(); ++g)
+      for (size_t i = 0; i < s.meshes[g].triangle_count(); ++i) {
+        const TriangleMesh& mesh = s.meshes[g];
+        if (!mesh.triangle_valid(i)) {
+          ++invalid;
+          continue;
+        }
+        AABB box;
+        for (int k = 0; k < 3; ++k) box.extend(mesh.positions[mesh.triangles[i][k]]);
+        ASSERT_LT(w, p.size());
+        ASSERT_EQ(std::memcmp(&p.bounds[w], &box, sizeof box), 0) << "mesh " << g << " tri " << i;
+        if (centroids) {
+          const Vec3f c = box.center();
+          ASSERT_EQ(std::memcmp(&p.centroids[w], &c, sizeof c), 0) << "tri " << i;
+        }
+        ASSERT_EQ(p.refs[w], (PrimRef{g, static_cast<uint32_t>(i)}));
+        ++w;
+      }
+    EXPECT_EQ(w, p.size());
+    EXPECT_EQ(invalid, p.invalid);
+    EXPECT_GT(invalid, 500u);
+    EXPECT_GT(p.size(), 30000u);
+  }
 }
 
 }  // namespace

@@ -3,6 +3,7 @@
 // processed in parallel over fixed-size chunks (fill, then close the gaps
 // invalid triangles left), so the result never depends on the thread count.
 #include "bvh/input/prim_info.h"
+#include "bvh/input/prim_info_lanes.h"
 #include "bvh/memory/huge_buffer.h"
 
 #include <tbb/blocked_range.h>
@@ -54,10 +55,8 @@ PrimInfo make_prim_info(const Scene& scene, bool store_centroids) {
   tbb::parallel_for(size_t{0}, chunks.size(), [&](size_t c) {
     Chunk& ch = chunks[c];
     const TriangleMesh& m = scene.meshes[ch.geom];
-    size_t w = ch.slot;
-    AABB sb, cb;
-    for (size_t i = ch.begin; i < ch.end; ++i) {
-      if (!m.triangle_valid(i)) continue;
+    const auto fill_one = [&](size_t i, size_t& w, AABB& sb, AABB& cb) {
+      if (!m.triangle_valid(i)) return;
       const AABB b = triangle_box(m, i);
       const Vec3f centre = b.center();
       info.bounds[w] = b;
@@ -66,7 +65,27 @@ PrimInfo make_prim_info(const Scene& scene, bool store_centroids) {
       sb.extend(b);
       cb.extend(centre);
       ++w;
+    };
+    size_t w = ch.slot;
+    AABB sb, cb;
+    size_t i = ch.begin;
+#if defined(HPRT_HAS_PRIM_INFO_LANES)
+    if (prim_info_lanes_fit(m)) {
+      // 16 at a time while all 16 are valid, else one step of the loop below.
+      PrimInfoLanesBounds lanes;
+      bool any = false;
+      while (i + 16 <= ch.end) {
+        Vec3f* const centroids = store_centroids ? &info.centroids[w] : nullptr;
+        if (fill_prim_info_16(m, ch.geom, i, &info.bounds[w], centroids, &info.refs[w], lanes)) {
+          i += 16, w += 16, any = true;
+          continue;
+        }
+        for (const size_t e = i + 16; i < e; ++i) fill_one(i, w, sb, cb);
+      }
+      if (any) lanes.reduce_into(sb, cb);
     }
+#endif
+    for (; i < ch.end; ++i) fill_one(i, w, sb, cb);
     ch.valid = w - ch.slot;
     chunk_bounds[c] = sb;
     chunk_cbounds[c] = cb;
