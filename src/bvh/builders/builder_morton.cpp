@@ -35,10 +35,11 @@ constexpr int kRadixBits = 10;
 constexpr uint32_t kRadix = 1u << kRadixBits;
 constexpr int kCodeShift = 32;  // key = code << 32 | PrimInfo index
 
-// The 10 low bits of v spread to every third bit (one pdep where BMI2 is
-// there: a dozen dependent shifts and masks otherwise).
+// The 10 low bits of v spread to every third bit: one pdep where BMI2 is
+// there and fast (Zen 1 and 2 run pdep in microcode, hundreds of cycles),
+// a dozen dependent shifts and masks otherwise.
 uint32_t spread_bits(uint32_t v) {
-#if defined(__BMI2__)
+#if defined(__BMI2__) && !defined(__znver1__) && !defined(__znver2__)
   return _pdep_u32(v, 0x09249249u);
 #else
   v &= 0x3ffu;
