@@ -13,6 +13,7 @@
 #include <limits>
 
 #include "bvh/input/prim_info.h"
+#include "core/min_max16.h"
 #include "core/triangle_mesh.h"
 
 #if defined(__AVX512F__)
@@ -21,11 +22,8 @@
 
 namespace hprt {
 
-// Per lane a < b ? a : b (and a > b ? a : b), as hprt::min and max: the mask
-// forms (g++ 12 warns that the plain ones pass an uninitialised operand; so
-// the other masked forms below).
-inline __m512 min16(__m512 a, __m512 b) { return _mm512_mask_min_ps(b, 0xffff, a, b); }
-inline __m512 max16(__m512 a, __m512 b) { return _mm512_mask_max_ps(b, 0xffff, a, b); }
+using detail::max16;  // hprt::min/max's rule; mask forms of the intrinsics, as
+using detail::min16;  // the other masked forms below (g++ 12 warnings)
 
 // Scene and centroid bounds of the triangles filled 16 at a time, per lane.
 struct PrimInfoLanesBounds {

@@ -17,6 +17,7 @@
 
 #include "bvh/input/build_options.h"
 #include "bvh/split/sah.h"
+#include "core/min_max16.h"
 #include "core/transpose16x8.h"
 
 namespace hprt::detail {
@@ -62,8 +63,8 @@ struct BinLanes {
 };
 
 // The plain 512-bit min, align, permute and conversion pass an undefined
-// operand that g++ 12 reports as maybe-uninitialized: their mask variants.
-inline __m512 sweep_min16(__m512 a, __m512 b) { return _mm512_mask_min_ps(b, 0xFFFF, a, b); }
+// operand that g++ 12 reports as maybe-uninitialized: their mask variants
+// (min16 and max16 in core/min_max16.h).
 template <int Imm>
 inline __m512i align16(__m512i hi, __m512i lo) {
   return _mm512_mask_alignr_epi32(lo, 0xFFFF, hi, lo, Imm);
@@ -91,7 +92,7 @@ inline void scan_lanes(BinLanes& b, const BinLanes& carry) {
     for (int k = 0; k < 6; ++k) {
       const __m512i v = _mm512_castps_si512(b.c[k]);
       const __m512i o = kPrefix ? lanes_up<S>(v, empty) : lanes_down<S>(v, empty);
-      b.c[k] = sweep_min16(b.c[k], _mm512_castsi512_ps(o));
+      b.c[k] = min16(b.c[k], _mm512_castsi512_ps(o));
     }
     b.n = _mm512_add_epi32(b.n, kPrefix ? lanes_up<S>(b.n, zero) : lanes_down<S>(b.n, zero));
   };
@@ -99,7 +100,7 @@ inline void scan_lanes(BinLanes& b, const BinLanes& carry) {
   step.template operator()<2>();
   step.template operator()<4>();
   step.template operator()<8>();
-  for (int k = 0; k < 6; ++k) b.c[k] = sweep_min16(b.c[k], carry.c[k]);
+  for (int k = 0; k < 6; ++k) b.c[k] = min16(b.c[k], carry.c[k]);
   b.n = _mm512_add_epi32(b.n, carry.n);
 }
 
@@ -185,10 +186,10 @@ inline void sweep_axis16(const float* boxes, const uint32_t* counts, int bin_cou
     const __m512 cost = _mm512_fmadd_ps(tc, pa, _mm512_mul_ps(ic, children));
     const __mmask16 valid = _mm512_mask_cmp_ps_mask(priced, cost, cost, _CMP_ORD_Q);
     __m512 m = _mm512_mask_blend_ps(valid, none, cost);  // the least valid cost, in every lane
-    m = sweep_min16(m, _mm512_mask_shuffle_f32x4(m, 0xFFFF, m, m, 0x4E));
-    m = sweep_min16(m, _mm512_mask_shuffle_f32x4(m, 0xFFFF, m, m, 0xB1));
-    m = sweep_min16(m, _mm512_mask_permute_ps(m, 0xFFFF, m, 0x4E));
-    m = sweep_min16(m, _mm512_mask_permute_ps(m, 0xFFFF, m, 0xB1));
+    m = min16(m, _mm512_mask_shuffle_f32x4(m, 0xFFFF, m, m, 0x4E));
+    m = min16(m, _mm512_mask_shuffle_f32x4(m, 0xFFFF, m, m, 0xB1));
+    m = min16(m, _mm512_mask_permute_ps(m, 0xFFFF, m, 0x4E));
+    m = min16(m, _mm512_mask_permute_ps(m, 0xFFFF, m, 0xB1));
     const float least = _mm512_cvtss_f32(m);
     if (!(least < best.cost)) continue;
     const int l = __builtin_ctz(_mm512_mask_cmp_ps_mask(valid, cost, m, _CMP_EQ_OQ));

@@ -10,14 +10,12 @@
 #include <limits>
 
 #include "core/force_inline.h"
+#include "core/min_max16.h"
 
 namespace hprt::detail {
 
-// _mm512_max_ps / _mm512_min_ps without their undefined pass-through operand,
-// which g++ 12 reports as maybe-uninitialized. Per lane `a > b ? a : b` and
-// `a < b ? a : b`: robust_max / robust_min with the slab value first.
-HPRT_FORCE_INLINE __m512 max16(__m512 a, __m512 b) { return _mm512_mask_max_ps(b, 0xFFFF, a, b); }
-HPRT_FORCE_INLINE __m512 min16(__m512 a, __m512 b) { return _mm512_mask_min_ps(b, 0xFFFF, a, b); }
+// max16 / min16 (core/min_max16.h) are robust_max / robust_min with the slab
+// value first.
 
 // The smallest of the lanes of `m` (+inf for none), by shuffles (the mask
 // variants, for the same reason as above); the greatest (-inf for none).
