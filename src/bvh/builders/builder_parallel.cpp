@@ -178,8 +178,8 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   BuildTree tree;
   const size_t n = prims.size();
   if (n == 0) return tree;
-  const auto refs = make_huge_buffer<BoxRef>(n);
-  const auto temp = make_huge_buffer<BoxRef>(n);
+  auto refs = make_huge_buffer<BoxRef>(n);
+  auto temp = make_huge_buffer<BoxRef>(n);
   tbb::parallel_for(tbb::blocked_range<size_t>(0, n, kChunk),
                     [&](const tbb::blocked_range<size_t>& r) {
                       fill_box_refs(prims, refs.get(), r.begin(), r.end());
@@ -190,6 +190,11 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data());
   const BoundsPair root = b.bounds_of(0, n, 0);
   const std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
+  // The references (64 bytes a primitive) go before the nodes are placed:
+  // otherwise the build's peak memory holds them beside both copies of the
+  // nodes (the parts' and the tree's).
+  refs.reset();
+  temp.reset();
   place_parts(*top, tree);
   return tree;
 }
