@@ -1,6 +1,9 @@
 // Tests of build_parallel: canonical layout and invariants, options, fallbacks.
 #include <gtest/gtest.h>
 
+#include <cstring>
+#include <limits>
+
 #include "core/parallel.h"
 #include "tests/support/bvh_builder_checks.h"
 
@@ -69,6 +72,53 @@ TEST(BuilderParallel, FallbacksAtTheParallelTopMatchBinned) {
     const BuildTree ref = build_binned(p, o);
     for (int threads : {1, 2, 7, 16})
       EXPECT_TRUE(parallel_with_threads(p, o, threads) == ref) << m.name << " " << threads;
+  }
+}
+
+// build_tree_releasing_bounds: the same tree for every builder, the boxes
+// gone afterwards and PrimInfo::box giving their bits from the scene.
+TEST(BuildTreeReleasingBounds, SameTreeEveryBuilderBoxesFromTheScene) {
+  Scene scene;
+  scene.add_mesh(random_soup(5000, 31));
+  scene.add_mesh(with_invalid_triangles());
+  for (const BuilderKind builder :
+       {BuilderKind::kSweep, BuilderKind::kPresorted, BuilderKind::kBinned, BuilderKind::kParallel,
+        BuilderKind::kMorton}) {
+    SCOPED_TRACE(to_string(builder));
+    BuildOptions o;
+    o.builder = builder;
+    const PrimInfo p = make_prim_info(scene);
+    const BuildTree ref = build_tree(p, o);
+    PrimInfo released = p;
+    EXPECT_TRUE(build_tree_releasing_bounds(released, o) == ref);
+    EXPECT_TRUE(released.bounds.empty());
+    ASSERT_EQ(released.size(), p.size());
+    for (size_t i = 0; i < p.size(); ++i) {
+      const AABB a = released.box(i, scene), b = p.bounds[i];
+      ASSERT_EQ(std::memcmp(&a, &b, sizeof a), 0) << "box " << i;
+    }
+  }
+}
+
+// The binned builders never read the boxes after `refs_filled`: boxes
+// overwritten there with NaN leave the tree as it was.
+TEST(BuildTreeReleasingBounds, BinnedBuildersReadNoBoxAfterTheCallback) {
+  const PrimInfo p = prims_of(random_soup(30000, 32));
+  BuildOptions o;
+  o.parallel_cutoff = 64;  // many parallel levels
+  const BuildTree ref = build_binned(p, o);
+  for (const bool parallel : {false, true}) {
+    PrimInfo q = p;
+    int calls = 0;
+    const auto poison = [&] {
+      ++calls;
+      const float nan = std::numeric_limits<float>::quiet_NaN();
+      for (size_t i = 0; i < q.size(); ++i) q.bounds[i] = AABB({nan, nan, nan}, {nan, nan, nan});
+    };
+    const BuildTree t = parallel ? run_with_threads(2, [&] { return build_parallel(q, o, poison); })
+                                 : build_binned(q, o, poison);
+    EXPECT_EQ(calls, 1) << parallel;
+    EXPECT_TRUE(t == ref) << parallel;
   }
 }
 

@@ -82,12 +82,21 @@ void check_layout(const test::BuiltBvh& b) {
   EXPECT_EQ(w.memory_bytes(), w.nodes.size() * sizeof(WideNode<N>) + w.triangles.memory_bytes());
   // The node pass alone (what the backend runs beside the triangle pass)
   // gives the same nodes, byte for byte, and no triangles.
-  const WideBvh<N> nodes_only = flatten_wide_nodes<N>(b.tree, b.prims);
+  const WideBvh<N> nodes_only = flatten_wide_nodes<N>(b.tree, b.prims, b.scene);
   EXPECT_TRUE(nodes_only.triangles.refs.empty());
   EXPECT_EQ(nodes_only.root.bits, w.root.bits);
   ASSERT_EQ(nodes_only.nodes.size(), w.nodes.size());
   EXPECT_EQ(
       std::memcmp(nodes_only.nodes.data(), w.nodes.data(), w.nodes.size() * sizeof(WideNode<N>)),
+      0);
+  // And so do prim infos whose boxes are released (the backend's: the boxes
+  // of split leaves' parts then come from the scene).
+  PrimInfo released = b.prims;
+  released.release_bounds();
+  const WideBvh<N> from_scene = flatten_wide_nodes<N>(b.tree, released, b.scene);
+  ASSERT_EQ(from_scene.nodes.size(), w.nodes.size());
+  EXPECT_EQ(
+      std::memcmp(from_scene.nodes.data(), w.nodes.data(), w.nodes.size() * sizeof(WideNode<N>)),
       0);
   ASSERT_EQ(nodes_only.collapsed.size(), w.collapsed.size());
   for (size_t k = 0; k < w.collapsed.size(); ++k) {

@@ -78,7 +78,8 @@ void BinnedSubtreeBuilder::recurse(size_t begin, size_t end, int side, int depth
   recurse(mid, end, child_side, depth + 1, rb, rc);
 }
 
-BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
+BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options,
+                       const std::function<void()>& refs_filled) {
   validate_build_options(options);
   BuildTree tree;
   const size_t n = prims.size();
@@ -86,6 +87,7 @@ BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
   const auto refs = make_huge_buffer<BoxRef>(n);
   const auto temp = make_huge_buffer<BoxRef>(n);
   fill_box_refs(prims, refs.get(), 0, n);
+  if (refs_filled) refs_filled();
   const auto [bounds, cbounds] = ref_bounds(refs.get(), n);
   tree.prim_order.reserve(n);
   advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
@@ -95,6 +97,10 @@ BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
   BinnedSubtreeBuilder builder(options, refs.get(), temp.get(), tree.prim_order.data());
   builder.build(0, n, 0, 1, bounds, cbounds, tree.nodes);
   return tree;
+}
+
+BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options) {
+  return build_binned(prims, options, {});
 }
 
 }  // namespace hprt

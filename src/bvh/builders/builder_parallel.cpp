@@ -173,7 +173,8 @@ class ParallelBuilder {
 };
 }  // namespace
 
-BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
+BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options,
+                         const std::function<void()>& refs_filled) {
   validate_build_options(options);
   BuildTree tree;
   const size_t n = prims.size();
@@ -184,6 +185,7 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
                     [&](const tbb::blocked_range<size_t>& r) {
                       fill_box_refs(prims, refs.get(), r.begin(), r.end());
                     });
+  if (refs_filled) refs_filled();
   tree.prim_order.reserve(n);
   advise_huge_pages(tree.prim_order.data(), n * sizeof(uint32_t));
   tree.prim_order.resize(n);
@@ -197,6 +199,10 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
   temp.reset();
   place_parts(*top, tree);
   return tree;
+}
+
+BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options) {
+  return build_parallel(prims, options, {});
 }
 
 }  // namespace hprt

@@ -29,4 +29,13 @@ BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options) {
   return build_parallel(prims, options);
 }
 
+BuildTree build_tree_releasing_bounds(PrimInfo& prims, const BuildOptions& options) {
+  const auto release = [&prims] { prims.release_bounds(); };
+  if (options.builder == BuilderKind::kBinned) return build_binned(prims, options, release);
+  if (options.builder == BuilderKind::kParallel) return build_parallel(prims, options, release);
+  BuildTree tree = build_tree(prims, options);
+  release();
+  return tree;
+}
+
 }  // namespace hprt

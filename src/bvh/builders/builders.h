@@ -2,6 +2,8 @@
 // each, all returning the same canonical BuildTree. `build_tree` dispatches on options.builder.
 #pragma once
 
+#include <functional>
+
 #include "bvh/builders/build_tree.h"
 #include "bvh/input/build_options.h"
 #include "bvh/input/prim_info.h"
@@ -13,12 +15,21 @@ BuildTree build_sweep(const PrimInfo& prims, const BuildOptions& options);      
 BuildTree build_presorted(const PrimInfo& prims, const BuildOptions& options);  // Algorithm 2
 BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options);     // Algorithm 3
 BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options);   // Algorithm 5
-// Not in the report: Morton codes, no SAH (builder_morton.cpp).
+// The same, calling `refs_filled` once their references hold every box:
+// from then on they never read prims.bounds.
+BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options,
+                       const std::function<void()>& refs_filled);
+BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options,
+                         const std::function<void()>& refs_filled);
 BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
 
 // Throws std::invalid_argument when the builder reads centroids and `prims`
 // was made without them.
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
+// build_tree, with prims.bounds released (PrimInfo::release_bounds) as soon
+// as the builder is done with them: by the binned builders once their
+// references hold the boxes, by the others after the build.
+BuildTree build_tree_releasing_bounds(PrimInfo& prims, const BuildOptions& options);
 
 // Whether the builder reads PrimInfo::centroids (sweep, presorted); the
 // binned, parallel and Morton builders take centres from the boxes.

@@ -18,15 +18,6 @@ namespace {
 
 constexpr size_t kChunk = 16384;
 
-AABB triangle_box(const TriangleMesh& m, size_t i) {
-  const Vec3u& t = m.triangles[i];
-  AABB b;
-  b.extend(m.positions[t[0]]);
-  b.extend(m.positions[t[1]]);
-  b.extend(m.positions[t[2]]);
-  return b;
-}
-
 }  // namespace
 
 PrimInfo make_prim_info(const Scene& scene, bool store_centroids) {

@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <limits>
 #include <stdexcept>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -198,12 +199,12 @@ void expand(const CollapsePlan<N>& plan, const BuildTree& tree, Filler& f, uint3
 // binary leaf (NodeRef::leaf_part).
 template <int N>
 void split_leaves_into_free_slots(WideNode<N>& node, CollapsedInner<N>& col, const BuildTree& tree,
-                                  const PrimInfo& prims) {
+                                  const PrimInfo& prims, const Scene& scene) {
   int k = 0;  // slots in use: the first k
   while (k < N && !node.child[k].empty()) ++k;
   const auto range_box = [&](uint32_t first, uint32_t end) {
     AABB box;
-    for (uint32_t j = first; j < end; ++j) box.extend(prims.bounds[tree.prim_order[j]]);
+    for (uint32_t j = first; j < end; ++j) box.extend(prims.box(tree.prim_order[j], scene));
     return box;
   };
   while (k < N) {
@@ -246,25 +247,44 @@ void split_leaves_into_free_slots(WideNode<N>& node, CollapsedInner<N>& col, con
   }
 }
 
-// Prefetches the prim boxes of the leaves among slot[0, k) that hold more
-// than one triangle (those split_leaves_into_free_slots may halve). Always
-// inlined: GCC deletes a call whose only effects are prefetches.
+// Prefetches for the boxes of the leaves among slot[0, k) that hold more
+// than one triangle (those split_leaves_into_free_slots may halve), in two
+// stages a few nodes apart: PrimInfo::box reads a box, or once the boxes are
+// released a ref and then the scene's triangle (its vertices are the third,
+// unprefetched load). Stage 0: the refs (nothing while boxes are held);
+// stage 1: the boxes, or the triangles of the refs stage 0 brought in.
+// Always inlined: GCC deletes a call whose only effects are prefetches.
+template <int kStage>
 [[gnu::always_inline]] inline void prefetch_leaf_prim_boxes(const BuildTree& tree,
                                                             const PrimInfo& prims,
+                                                            const Scene& scene,
                                                             const uint32_t* slot, int k) {
+  const bool held = !prims.bounds.empty();
+  if (kStage == 0 && held) return;
   for (int i = 0; i < k; ++i) {
     const BuildNode& c = tree.nodes[slot[i]];
     if (c.count < 2) continue;
     const size_t end = std::min<size_t>(size_t(c.first) + c.count, prims.size());
-    for (size_t j = c.first; j < end; ++j)
-      _mm_prefetch(reinterpret_cast<const char*>(&prims.bounds[tree.prim_order[j]]), _MM_HINT_T0);
+    for (size_t j = c.first; j < end; ++j) {
+      const uint32_t p = tree.prim_order[j];
+      const void* at;
+      if (held) {
+        at = &prims.bounds[p];
+      } else if (kStage == 0) {
+        at = &prims.refs[p];
+      } else {
+        const PrimRef r = prims.refs[p];
+        at = &scene.meshes[r.geom_id].triangles[r.prim_id];
+      }
+      _mm_prefetch(static_cast<const char*>(at), _MM_HINT_T0);
+    }
   }
 }
 
 }  // namespace
 
 template <int N>
-WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
+WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims, const Scene& scene) {
   WideBvh<N> out;
   const size_t n = tree.nodes.size();
   if (n == 0) return out;
@@ -328,18 +348,26 @@ WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
   prefault_pages(out.nodes.data(), shapes.size() * sizeof(WideNode<N>));
   out.nodes.resize(shapes.size());
   // Each node on its own, in parallel: the part boxes of split leaves are
-  // read at random from the prim boxes, so those of a node kFillAhead nodes
-  // on are prefetched (only a node with free slots splits its leaves).
+  // read at random from the prim boxes (or the scene), so their loads are
+  // prefetched in two stages, kFillAhead nodes apart (only a node with free
+  // slots splits its leaves).
   constexpr size_t kFillAhead = 6;
-  const auto prefetch_leaf_boxes = [&](const Shape& s) {
-    if (s.k < N) prefetch_leaf_prim_boxes(tree, prims, s.slot, s.k);
+  const auto prefetch_stage = [&](size_t w, auto stage) {
+    const Shape& s = shapes[w];
+    if (s.k < N) prefetch_leaf_prim_boxes<decltype(stage)::value>(tree, prims, scene, s.slot, s.k);
   };
+  using Stage0 = std::integral_constant<int, 0>;
+  using Stage1 = std::integral_constant<int, 1>;
   tbb::parallel_for(
       tbb::blocked_range<size_t>(0, shapes.size(), 1024), [&](const tbb::blocked_range<size_t>& r) {
-        for (size_t w = r.begin(); w != std::min(r.end(), r.begin() + kFillAhead); ++w)
-          prefetch_leaf_boxes(shapes[w]);
+        const auto ahead = [&](size_t stages) {
+          return std::min(r.end(), r.begin() + stages * kFillAhead);
+        };
+        for (size_t w = r.begin(); w != ahead(2); ++w) prefetch_stage(w, Stage0{});
+        for (size_t w = r.begin(); w != ahead(1); ++w) prefetch_stage(w, Stage1{});
         for (size_t w = r.begin(); w != r.end(); ++w) {
-          if (w + kFillAhead < r.end()) prefetch_leaf_boxes(shapes[w + kFillAhead]);
+          if (w + 2 * kFillAhead < r.end()) prefetch_stage(w + 2 * kFillAhead, Stage0{});
+          if (w + kFillAhead < r.end()) prefetch_stage(w + kFillAhead, Stage1{});
           const Shape& s = shapes[w];
           WideNode<N>& node = out.nodes[w];
           for (int i = 0; i < N; ++i) node.clear_slot(i);
@@ -350,7 +378,7 @@ WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
             node.child[i] =
                 c.is_leaf() ? NodeRef::leaf(c.first, c.count) : NodeRef::inner(next_child++);
           }
-          split_leaves_into_free_slots(node, out.collapsed[w], tree, prims);
+          split_leaves_into_free_slots(node, out.collapsed[w], tree, prims, scene);
         }
       });
   return out;
@@ -359,13 +387,13 @@ WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims) {
 template <int N>
 WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scene& scene,
                         TriangleArrays arrays) {
-  WideBvh<N> out = flatten_wide_nodes<N>(tree, prims);
+  WideBvh<N> out = flatten_wide_nodes<N>(tree, prims, scene);
   out.triangles = gather_leaf_triangles(tree, prims, scene, arrays);
   return out;
 }
 
-template WideBvh<4> flatten_wide_nodes<4>(const BuildTree&, const PrimInfo&);
-template WideBvh<8> flatten_wide_nodes<8>(const BuildTree&, const PrimInfo&);
+template WideBvh<4> flatten_wide_nodes<4>(const BuildTree&, const PrimInfo&, const Scene&);
+template WideBvh<8> flatten_wide_nodes<8>(const BuildTree&, const PrimInfo&, const Scene&);
 template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&,
                                     TriangleArrays);
 template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&,

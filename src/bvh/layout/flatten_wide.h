@@ -22,12 +22,13 @@ WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scen
 
 // The node pass alone: nodes, collapsed and root; `triangles` left empty, for
 // gather_leaf_triangles(tree, prims, scene, arrays) (bvh/layout/flatten_bvh2.h) to fill,
-// which may run at the same time (both only read `tree` and `prims`).
+// which may run at the same time (both only read `tree`, `prims` and `scene`).
+// `prims` may have released its bounds (PrimInfo::box).
 template <int N>
-WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims);
+WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims, const Scene& scene);
 
-extern template WideBvh<4> flatten_wide_nodes<4>(const BuildTree&, const PrimInfo&);
-extern template WideBvh<8> flatten_wide_nodes<8>(const BuildTree&, const PrimInfo&);
+extern template WideBvh<4> flatten_wide_nodes<4>(const BuildTree&, const PrimInfo&, const Scene&);
+extern template WideBvh<8> flatten_wide_nodes<8>(const BuildTree&, const PrimInfo&, const Scene&);
 extern template WideBvh<4> flatten_wide<4>(const BuildTree&, const PrimInfo&, const Scene&,
                                            TriangleArrays);
 extern template WideBvh<8> flatten_wide<8>(const BuildTree&, const PrimInfo&, const Scene&,
