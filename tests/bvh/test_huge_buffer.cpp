@@ -82,6 +82,23 @@ TEST(HugeBufferCache, FreesWithoutARetention) {
   EXPECT_EQ(huge_buffer_cache_bytes(), 0u);
 }
 
+// retained() follows the count of retentions (a build trims the heap only
+// when no retention lives: builder_parallel.cpp).
+TEST(HugeBufferCache, RetainedWhileAnyRetentionLives) {
+  EXPECT_FALSE(build_buffer_cache().retained());
+  {
+    HugeBufferRetention a;
+    EXPECT_TRUE(build_buffer_cache().retained());
+    {
+      HugeBufferRetention b;
+      EXPECT_TRUE(build_buffer_cache().retained());
+    }
+    EXPECT_TRUE(build_buffer_cache().retained());
+  }
+  EXPECT_FALSE(build_buffer_cache().retained());
+  trim_heap();  // with nothing to give back: a no-op
+}
+
 TEST(HugeBufferCache, ReusesACloseSizeWhileRetainedAndEmptiesAfter) {
   {
     HugeBufferRetention retain;

@@ -29,6 +29,8 @@ namespace hprt {
 namespace {
 
 constexpr size_t kChunk = 8192;  // fixed work unit: never depends on the thread count
+// Subtree nodes from which a build hands freed heap pages back (trim_heap).
+constexpr size_t kTrimHeapBytes = size_t{128} << 20;
 
 struct BoundsPair {
   AABB b, c;
@@ -191,13 +193,20 @@ BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options,
   tree.prim_order.resize(n);
   ParallelBuilder b(options, refs.get(), temp.get(), tree.prim_order.data());
   const BoundsPair root = b.bounds_of(0, n, 0);
-  const std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
+  std::unique_ptr<Part> top = b.build(0, n, 0, 1, root.b, root.c);
   // The references (64 bytes a primitive) go before the nodes are placed:
   // otherwise the build's peak memory holds them beside both copies of the
   // nodes (the parts' and the tree's).
   refs.reset();
   temp.reset();
   place_parts(*top, tree);
+  // The subtrees' node arrays come from the C library's heap, which may keep
+  // their pages once freed (on a 100M-triangle build, gigabytes: the layout
+  // made next then peaks above them). A large one-off build gives them back;
+  // rebuilds of an animation (the buffer cache retained) reuse them instead.
+  const size_t part_bytes = top->total * sizeof(BuildNode);
+  top.reset();
+  if (part_bytes >= kTrimHeapBytes && !build_buffer_cache().retained()) trim_heap();
   return tree;
 }
 

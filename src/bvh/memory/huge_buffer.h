@@ -84,6 +84,7 @@ class BufferCache {
   // freed buffers are cached; the last release_retention() empties the cache.
   void retain();
   void release_retention();
+  bool retained() const;
 
  private:
   struct State;
@@ -99,6 +100,10 @@ BufferCache& build_buffer_cache();
 // release_huge_buffer.
 inline void* acquire_huge_buffer(size_t bytes) { return build_buffer_cache().acquire(bytes); }
 inline void release_huge_buffer(void* p) noexcept { build_buffer_cache().release(p); }
+
+// Hands the C library heap's free pages back to the system (glibc's
+// malloc_trim; nothing with another C library).
+void trim_heap() noexcept;
 inline size_t huge_buffer_cache_bytes() { return build_buffer_cache().bytes(); }
 
 // While one lives, build_buffer_cache() caches freed large buffers; when the

@@ -10,6 +10,10 @@
 #include <unordered_map>
 #include <vector>
 
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
+
 #include "bvh/memory/huge_buffer.h"
 
 #if defined(__SANITIZE_ADDRESS__)
@@ -152,6 +156,11 @@ size_t BufferCache::bytes() const {
   return state_->bytes;
 }
 
+bool BufferCache::retained() const {
+  const std::lock_guard lock(state_->mutex);
+  return state_->retainers > 0;
+}
+
 void BufferCache::retain() {
   const std::lock_guard lock(state_->mutex);
   ++state_->retainers;
@@ -160,6 +169,12 @@ void BufferCache::retain() {
 void BufferCache::release_retention() {
   const std::lock_guard lock(state_->mutex);
   if (--state_->retainers == 0) state_->free_all();
+}
+
+void trim_heap() noexcept {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
 }
 
 }  // namespace hprt
