@@ -28,7 +28,8 @@ BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
 // build_tree, with prims.bounds released (PrimInfo::release_bounds) as soon
 // as the builder is done with them: by the binned builders once their
-// references hold the boxes, by the others after the build.
+// references hold the boxes, by the sweep builders after the build; kept for
+// a Morton tree, whose layout reads many of them (builders.cpp).
 BuildTree build_tree_releasing_bounds(PrimInfo& prims, const BuildOptions& options);
 
 // Whether the builder reads PrimInfo::centroids (sweep, presorted); the
