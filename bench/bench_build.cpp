@@ -315,9 +315,13 @@ std::string flatten_note(const BenchInput& in, const PrimInfo& prims_all, int th
   const BuildTree tree =
       run_with_threads(threads, [&] { return build_tree(prims_all, BuildOptions{}); });
   // As the backend flattens: after the build released the boxes (the bvh8
-  // node pass then reads the few it needs from the scene).
-  PrimInfo prims = prims_all;
-  prims.release_bounds();
+  // node pass then reads the few it needs from the scene). Only the refs
+  // are copied: the bench holds no second set of boxes or centroids.
+  PrimInfo prims;
+  prims.refs = prims_all.refs;
+  prims.scene_bounds = prims_all.scene_bounds;
+  prims.centroid_bounds = prims_all.centroid_bounds;
+  prims.invalid = prims_all.invalid;
   size_t wide_bytes = 0;
   std::vector<TimingStats> flat;
   run_with_threads(threads, [&] {

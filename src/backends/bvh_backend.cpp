@@ -251,9 +251,9 @@ class BvhIntersector final : public Intersector {
   double rebuild(const Scene& scene, StatsPass stats_pass, const BuildOptions& build) {
     const auto start = Clock::now();
     PrimInfo prims = make_prim_info(scene, builder_reads_centroids(build.builder));
-    // The primitive boxes go as soon as the builder is done with them (the
-    // layout takes the few it needs from the scene): 24 bytes a triangle
-    // less at the build's peak.
+    // The primitive boxes (24 bytes a triangle) go as soon as the builder is
+    // done with them, kept only for a Morton tree (builders.h): the layout
+    // takes the few it needs from the scene.
     const BuildTree tree = build_tree_releasing_bounds(prims, build);
     // The last build's triangle arrays (and refit index) are rewritten in
     // place: over the same triangles they have the sizes already, so a

@@ -96,7 +96,6 @@ TEST(HugeBufferCache, RetainedWhileAnyRetentionLives) {
     EXPECT_TRUE(build_buffer_cache().retained());
   }
   EXPECT_FALSE(build_buffer_cache().retained());
-  trim_heap();  // with nothing to give back: a no-op
 }
 
 TEST(HugeBufferCache, ReusesACloseSizeWhileRetainedAndEmptiesAfter) {

@@ -29,7 +29,8 @@ namespace hprt {
 namespace {
 
 constexpr size_t kChunk = 8192;  // fixed work unit: never depends on the thread count
-// Subtree nodes from which a build hands freed heap pages back (trim_heap).
+// Tree size (nodes, as bytes) from which a build hands the freed heap pages
+// of its subtrees back (trim_heap).
 constexpr size_t kTrimHeapBytes = size_t{128} << 20;
 
 struct BoundsPair {
@@ -67,8 +68,10 @@ class ParallelBuilder {
       // Built into its own array, sized for the most nodes n primitives can
       // need (2n - 1), so it never grows. From malloc: recycled from build to
       // build only while glibc serves them from its heap (its mmap threshold
-      // rises once large blocks are freed), else fresh pages each time (the
-      // Morton builder counts its subtrees first and writes nodes in place).
+      // rises once large blocks are freed) and a large one-off build has not
+      // handed the pages back (trim_heap, build_parallel), else fresh pages
+      // each time (the Morton builder counts its subtrees first and writes
+      // nodes in place).
       part->own.reserve(2 * n - 1);
       BinnedSubtreeBuilder seq(o_, refs_[0], refs_[1], order_);
       seq.build(begin, end, side, depth, bounds, cbounds, part->own);

@@ -14,6 +14,8 @@ bool builder_reads_centroids(BuilderKind builder) {
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options) {
   if (builder_reads_centroids(options.builder) && prims.centroids.size() != prims.size())
     throw std::invalid_argument("build_tree: this builder needs the primitives' centroids");
+  if (prims.bounds.size() != prims.size())
+    throw std::invalid_argument("build_tree: the primitives' boxes were released");
   switch (options.builder) {
     case BuilderKind::kSweep:
       return build_sweep(prims, options);

@@ -1,5 +1,5 @@
-// The four builders of the report and a Morton builder, one free function
-// each, all returning the same canonical BuildTree. `build_tree` dispatches on options.builder.
+// The four builders of the report and a Morton builder, free functions all
+// returning the same canonical BuildTree. `build_tree` dispatches on options.builder.
 #pragma once
 
 #include <functional>
@@ -15,16 +15,17 @@ BuildTree build_sweep(const PrimInfo& prims, const BuildOptions& options);      
 BuildTree build_presorted(const PrimInfo& prims, const BuildOptions& options);  // Algorithm 2
 BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options);     // Algorithm 3
 BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options);   // Algorithm 5
-// The same, calling `refs_filled` once their references hold every box:
-// from then on they never read prims.bounds.
+BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
+
+// build_binned and build_parallel calling `refs_filled` once their
+// references hold every box: from then on they never read prims.bounds.
 BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options,
                        const std::function<void()>& refs_filled);
 BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options,
                          const std::function<void()>& refs_filled);
-BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
 
 // Throws std::invalid_argument when the builder reads centroids and `prims`
-// was made without them.
+// was made without them, or when its boxes were released.
 BuildTree build_tree(const PrimInfo& prims, const BuildOptions& options);
 // build_tree, with prims.bounds released (PrimInfo::release_bounds) as soon
 // as the builder is done with them: by the binned builders once their

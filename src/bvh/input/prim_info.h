@@ -1,6 +1,8 @@
-// What builders see of the scene: one box and one centroid per valid
-// triangle, nothing else (builders never touch triangles). `refs` maps a
-// builder primitive back to (geomID, primID) so leaves report input indices.
+// What builders see of the scene: one box (and, for the builders that read
+// them, one centroid) per valid triangle, nothing else (builders never touch
+// triangles); the boxes may be released after a build (release_bounds).
+// `refs` maps a builder primitive back to (geomID, primID) so leaves report
+// input indices.
 #pragma once
 
 #include <cstddef>

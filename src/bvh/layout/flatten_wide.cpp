@@ -15,8 +15,8 @@
 // numbers the wide nodes runs on one thread, and the nodes are then filled in
 // parallel from the slots it chose, so the layout is thread-count independent.
 // Triangle pass: gather_leaf_triangles, as for the binary layout. The two
-// passes read only the build tree (and the scene), so a caller may run them
-// concurrently (flatten_wide_nodes, then set `triangles`).
+// passes only read the build tree, the prim info and the scene, so a caller
+// may run them concurrently (flatten_wide_nodes, then set `triangles`).
 #include "bvh/layout/flatten_wide.h"
 
 #include <tbb/blocked_range.h>

@@ -23,7 +23,8 @@ WideBvh<N> flatten_wide(const BuildTree& tree, const PrimInfo& prims, const Scen
 // The node pass alone: nodes, collapsed and root; `triangles` left empty, for
 // gather_leaf_triangles(tree, prims, scene, arrays) (bvh/layout/flatten_bvh2.h) to fill,
 // which may run at the same time (both only read `tree`, `prims` and `scene`).
-// `prims` may have released its bounds (PrimInfo::box).
+// `prims` must come from `scene`, and may have released its boxes
+// (PrimInfo::box then reads them from the scene).
 template <int N>
 WideBvh<N> flatten_wide_nodes(const BuildTree& tree, const PrimInfo& prims, const Scene& scene);
 

@@ -100,11 +100,11 @@ BufferCache& build_buffer_cache();
 // release_huge_buffer.
 inline void* acquire_huge_buffer(size_t bytes) { return build_buffer_cache().acquire(bytes); }
 inline void release_huge_buffer(void* p) noexcept { build_buffer_cache().release(p); }
+inline size_t huge_buffer_cache_bytes() { return build_buffer_cache().bytes(); }
 
 // Hands the C library heap's free pages back to the system (glibc's
 // malloc_trim; nothing with another C library).
 void trim_heap() noexcept;
-inline size_t huge_buffer_cache_bytes() { return build_buffer_cache().bytes(); }
 
 // While one lives, build_buffer_cache() caches freed large buffers; when the
 // last one goes, the cache is emptied (the memory goes back to the system).
