@@ -15,6 +15,7 @@ BuildTree build_sweep(const PrimInfo& prims, const BuildOptions& options);      
 BuildTree build_presorted(const PrimInfo& prims, const BuildOptions& options);  // Algorithm 2
 BuildTree build_binned(const PrimInfo& prims, const BuildOptions& options);     // Algorithm 3
 BuildTree build_parallel(const PrimInfo& prims, const BuildOptions& options);   // Algorithm 5
+// Not in the report: Morton codes, no SAH (builder_morton.cpp).
 BuildTree build_morton(const PrimInfo& prims, const BuildOptions& options);
 
 // build_binned and build_parallel calling `refs_filled` once their
